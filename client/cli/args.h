@@ -1,0 +1,44 @@
+// Minimal command-line parsing for the monocle tool: positionals, --name VALUE (or
+// --name=VALUE), repeatable options and boolean flags. Unknown options are errors.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "service/common/result.h"
+
+namespace monocle::cli {
+
+struct ArgSpec {
+  std::set<std::string> value_options;  // take a value, e.g. "--board"
+  std::set<std::string> flags;          // no value, e.g. "--json"
+};
+
+class Args {
+ public:
+  static Result<Args> Parse(const std::vector<std::string>& argv, const ArgSpec& spec);
+
+  const std::vector<std::string>& positionals() const { return positionals_; }
+  bool Has(const std::string& name) const;
+  std::optional<std::string> Get(const std::string& name) const;  // last occurrence
+  std::vector<std::string> GetAll(const std::string& name) const;
+  Result<std::string> Require(const std::string& name) const;
+  // Parses a finite number; `unit` goes into the error message.
+  Result<double> GetDouble(const std::string& name, double fallback) const;
+  Result<double> RequireDouble(const std::string& name) const;
+
+ private:
+  std::vector<std::string> positionals_;
+  std::multimap<std::string, std::string> options_;
+  std::set<std::string> flags_;
+};
+
+// Parses a finite double; empty on trailing garbage.
+std::optional<double> ParseDouble(const std::string& text);
+// Splits "a,b,c" into numbers; empty if any part is not a finite number.
+std::optional<std::vector<double>> ParseNumberList(const std::string& text);
+
+}  // namespace monocle::cli

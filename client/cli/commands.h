@@ -1,0 +1,36 @@
+// Sub-commands of the `monocle` tool. Each returns the process exit status:
+// 0 success, 1 a measurement or input failed (reported on stderr or in the JSON),
+// 2 the command line itself is wrong.
+#pragma once
+
+#include <google/protobuf/message.h>
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "service/common/result.h"
+
+namespace monocle::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+int FloorCommand(const std::vector<std::string>& args);
+int IntrinsicsCommand(const std::vector<std::string>& args);
+int RenderCommand(const std::vector<std::string>& args);
+
+// Prints "monocle: error: <message>" on stderr and returns `status`.
+int Fail(const std::string& message, int status);
+int Fail(const Error& error, int status);
+
+// Reads an image as 8-bit grey, with a clear error if the file is missing or unreadable.
+Result<cv::Mat> ReadGreyImage(const std::string& path);
+
+// One-line JSON of a protobuf message, keys as in the .proto.
+std::string ToJson(const google::protobuf::Message& message);
+
+bool WantsHelp(const std::vector<std::string>& args);
+
+}  // namespace monocle::cli

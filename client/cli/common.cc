@@ -1,0 +1,49 @@
+#include <google/protobuf/util/json_util.h>
+
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "client/cli/commands.h"
+
+namespace monocle::cli {
+
+int Fail(const std::string& message, int status) {
+  std::cerr << "monocle: error: " << message << "\n";
+  return status;
+}
+
+int Fail(const Error& error, int status) { return Fail(error.message, status); }
+
+Result<cv::Mat> ReadGreyImage(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    return MakeError(ErrorCode::kNotFound, "cannot read image '" + path + "': no such file");
+  }
+  cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (image.empty()) {
+    return MakeError(ErrorCode::kIo, "cannot read image '" + path +
+                                         "': not an image format OpenCV reads (PNG, PGM, JPEG, TIFF, ...)");
+  }
+  if (image.depth() != CV_8U) image.convertTo(image, CV_8U, 1.0 / 256);
+  return image;
+}
+
+std::string ToJson(const google::protobuf::Message& message) {
+  google::protobuf::util::JsonPrintOptions options;
+  options.always_print_primitive_fields = true;
+  options.preserve_proto_field_names = true;
+  std::string out;
+  const auto status = google::protobuf::util::MessageToJsonString(message, &out, options);
+  (void)status;  // cannot fail for our own messages
+  return out;
+}
+
+bool WantsHelp(const std::vector<std::string>& args) {
+  for (const auto& a : args) {
+    if (a == "--help" || a == "-h") return true;
+  }
+  return false;
+}
+
+}  // namespace monocle::cli

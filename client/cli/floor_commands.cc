@@ -1,0 +1,252 @@
+// monocle floor calibrate | measure (offline: image and calibration files).
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "idl/cli_output.pb.h"
+#include "service/io/calibration_file.h"
+#include "service/vision/chessboard.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr double kDefaultPixelSigmaPx = 0.5;
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+constexpr const char* kCalibrateHelp = R"(Usage: monocle floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES
+                                [--method full|paper] [--write] [--json]
+
+Finds a chessboard lying on the floor in IMAGE and computes the camera's pose above the
+floor: height h (metres, optical centre above the floor), pitch theta (rad, angle between
+the floor's up normal and the optical axis), yaw alpha (rad, board x axis against the
+robot's X_w, eq. 10 of Xu et al.) and roll (rad, about the optical axis).
+
+  --calibration CAL.pbtxt  calibration file with the camera's intrinsics (required)
+  --board COLSxROWS        inner corners of the board, e.g. 9x6 (required)
+  --square METRES          side of one square, metres (required)
+  --method full|paper      full: all six degrees of freedom by minimising the corners'
+                           reprojection error (default); paper: Xu et al. eq. (13) by
+                           least squares, then eq. (15); roll is fixed at 0
+  --write                  store the result in CAL.pbtxt (atomically)
+  --json                   print one JSON object: height pitch yaw roll rms_px sigma{...}
+
+Board axes: x_p to the right in the image, y_p away from the camera.
+)";
+
+constexpr const char* kMeasureHelp = R"(Usage: monocle floor measure --calibration CAL.pbtxt [--pixel-sigma PX] [--json] POINT...
+
+Measures points in the robot frame (metres): origin on the floor under the optical
+centre, X_w along the image's horizontal axis, Y_w forward, Z_w up.
+
+  POINT                   u,v        a pixel on the floor -> (x, y, 0)       (eq. 5)
+                          u,v@fu,fv  a pixel standing vertically above the floor
+                                     pixel fu,fv -> (x, y, z)                (eq. 7)
+  --calibration CAL.pbtxt a calibration file with a floor section (required)
+  --pixel-sigma PX        1-sigma noise of each pixel coordinate, pixels (default 0.5)
+  --json                  print one JSON array, per point {x, y, z, sigma{x, y, z}} or
+                          {error}
+
+Each result's sigma combines the calibration's covariance and the pixel noise.
+Exit status 1 when any point could not be measured.
+)";
+
+Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(const std::string& text) {
+  const auto at = text.find('@');
+  auto parse_pixel = [&](const std::string& part) -> std::optional<Eigen::Vector2d> {
+    const auto nums = ParseNumberList(part);
+    if (!nums || nums->size() != 2) return std::nullopt;
+    return Eigen::Vector2d((*nums)[0], (*nums)[1]);
+  };
+  const auto first = parse_pixel(text.substr(0, at));
+  if (!first) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,800)");
+  }
+  if (at == std::string::npos) return std::make_pair(*first, std::optional<Eigen::Vector2d>());
+  const auto second = parse_pixel(text.substr(at + 1));
+  if (!second) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,300@640.5,800)");
+  }
+  return std::make_pair(*second, std::optional<Eigen::Vector2d>(*first));
+}
+
+bool InsideImage(const CameraIntrinsics& k, const Eigen::Vector2d& px) {
+  return px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= k.width_px - 0.5 && px.y() <= k.height_px - 0.5;
+}
+
+int Calibrate(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kCalibrateHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{"--calibration", "--board", "--square", "--method"}, {"--write", "--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->positionals().size() != 1) return Fail("floor calibrate takes exactly one IMAGE (see --help)", kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  const auto board_text = args->Require("--board");
+  if (!board_text) return Fail(board_text.error(), kExitUsage);
+  const auto square = args->RequireDouble("--square");
+  if (!square) return Fail(square.error(), kExitUsage);
+  const auto spec = ParseBoardSize(*board_text, *square);
+  if (!spec) return Fail(spec.error(), kExitUsage);
+  const std::string method_text = args->Get("--method").value_or("full");
+  if (method_text != "full" && method_text != "paper") {
+    return Fail("--method must be full or paper, not '" + method_text + "'", kExitUsage);
+  }
+  const auto method = method_text == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
+
+  auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  const auto image = ReadGreyImage(args->positionals()[0]);
+  if (!image) return Fail(image.error(), kExitFailure);
+  const auto& k = calibration->intrinsics;
+  if (image->cols != k.width_px || image->rows != k.height_px) {
+    std::ostringstream os;
+    os << "image is " << image->cols << "x" << image->rows << " but the calibration is for "
+       << k.width_px << "x" << k.height_px;
+    return Fail(os.str(), kExitFailure);
+  }
+  const auto board = DetectChessboard(*image, *spec);
+  if (!board) return Fail(board.error(), kExitFailure);
+  const auto result = CalibrateFloor(k, *board, method);
+  if (!result) return Fail(result.error(), kExitFailure);
+  if (!(result->pose.height_m > 0) || !(result->pose.pitch_rad > 0 && result->pose.pitch_rad < std::numbers::pi)) {
+    return Fail("the calibration gave an impossible pose (height <= 0 or pitch outside (0, pi)); "
+                "the board is probably not on the floor in view",
+                kExitFailure);
+  }
+
+  if (args->Has("--write")) {
+    CameraCalibration updated = *calibration;
+    updated.floor = *result;
+    const auto saved = SaveCalibrationFileAtomically(*cal_path, updated);
+    if (!saved) return Fail(saved.error(), kExitFailure);
+  }
+  const auto sigma = result->Sigma();
+  if (args->Has("--json")) {
+    proto::FloorCalibrationOutput out;
+    out.set_height(result->pose.height_m);
+    out.set_pitch(result->pose.pitch_rad);
+    out.set_yaw(result->pose.yaw_rad);
+    out.set_roll(result->pose.roll_rad);
+    out.set_rms_px(result->rms_px);
+    out.set_method(ToString(method));
+    out.set_corners(static_cast<uint32_t>(board->pixels.size()));
+    out.mutable_sigma()->set_height(sigma[0]);
+    out.mutable_sigma()->set_pitch(sigma[1]);
+    out.mutable_sigma()->set_yaw(sigma[2]);
+    out.mutable_sigma()->set_roll(sigma[3]);
+    std::cout << ToJson(out) << "\n";
+  } else {
+    std::cout << std::fixed << std::setprecision(6) << "method  " << ToString(method) << " ("
+              << board->pixels.size() << " corners)\n"
+              << "height  " << result->pose.height_m << " m      ± " << sigma[0] << " m\n"
+              << "pitch   " << result->pose.pitch_rad << " rad    ± " << sigma[1] << " rad  ("
+              << std::setprecision(4) << result->pose.pitch_rad * kDeg << "°)\n"
+              << std::setprecision(6) << "yaw     " << result->pose.yaw_rad << " rad    ± " << sigma[2]
+              << " rad  (" << std::setprecision(4) << result->pose.yaw_rad * kDeg << "°)\n"
+              << std::setprecision(6) << "roll    " << result->pose.roll_rad << " rad    ± " << sigma[3]
+              << " rad  (" << std::setprecision(4) << result->pose.roll_rad * kDeg << "°)\n"
+              << std::setprecision(4) << "rms     " << result->rms_px << " px\n";
+    if (args->Has("--write")) std::cout << "written to " << *cal_path << "\n";
+  }
+  return kExitOk;
+}
+
+int Measure(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kMeasureHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{"--calibration", "--pixel-sigma", "--camera"}, {"--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->Has("--camera")) {
+    return Fail("--camera needs the monocle service, which this build does not include yet; "
+                "use --calibration CAL.pbtxt",
+                kExitUsage);
+  }
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  const auto pixel_sigma = args->GetDouble("--pixel-sigma", kDefaultPixelSigmaPx);
+  if (!pixel_sigma || *pixel_sigma < 0) return Fail("--pixel-sigma must be a number of pixels >= 0", kExitUsage);
+  if (args->positionals().empty()) return Fail("no POINT given (u,v or u,v@fu,fv; see --help)", kExitUsage);
+  // Malformed points are a command-line error: reject them all before measuring any.
+  std::vector<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> points;
+  for (const auto& text : args->positionals()) {
+    auto p = ParsePoint(text);
+    if (!p) return Fail(p.error(), kExitUsage);
+    points.push_back(*p);
+  }
+  const auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  if (!calibration->floor) {
+    return Fail(*cal_path + " has no floor section: run 'monocle floor calibrate ... --write' first",
+                kExitFailure);
+  }
+  const auto& k = calibration->intrinsics;
+  MeasurementNoise noise{calibration->floor->covariance, *pixel_sigma};
+
+  bool any_failed = false;
+  const bool json = args->Has("--json");
+  if (json) std::cout << "[";
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto& [floor_px, top_px] = points[i];
+    Result<FloorMeasurement> m = MakeError(ErrorCode::kInvalidArgument, "");
+    if (!InsideImage(k, floor_px) || (top_px && !InsideImage(k, *top_px))) {
+      std::ostringstream os;
+      os << "pixel outside the " << k.width_px << "x" << k.height_px << " image";
+      m = MakeError(ErrorCode::kOutOfRange, os.str());
+    } else if (top_px) {
+      m = MeasureVerticalPoint(k, calibration->floor->pose, noise, floor_px, *top_px);
+    } else {
+      m = MeasureFloorPoint(k, calibration->floor->pose, noise, floor_px);
+    }
+    any_failed |= !m.ok();
+    const std::string& text = args->positionals()[i];
+    if (json) {
+      proto::PointOutput out;
+      if (m) {
+        const auto sigma = m->Sigma();
+        out.set_x(m->p_robot_m.x());
+        out.set_y(m->p_robot_m.y());
+        out.set_z(m->p_robot_m.z());
+        out.mutable_sigma()->set_x(sigma.x());
+        out.mutable_sigma()->set_y(sigma.y());
+        out.mutable_sigma()->set_z(sigma.z());
+      } else {
+        out.set_error(m.error().message);
+      }
+      std::cout << (i ? "," : "") << ToJson(out);
+    } else if (m) {
+      const auto sigma = m->Sigma();
+      std::cout << std::fixed << std::setprecision(4) << text << "  x=" << m->p_robot_m.x()
+                << " y=" << m->p_robot_m.y() << " z=" << m->p_robot_m.z() << " m  (1σ " << sigma.x()
+                << " " << sigma.y() << " " << sigma.z() << " m)\n";
+    } else {
+      std::cout << text << "  error: " << m.error().message << "\n";
+    }
+  }
+  if (json) std::cout << "]\n";
+  return any_failed ? kExitFailure : kExitOk;
+}
+
+}  // namespace
+
+int FloorCommand(const std::vector<std::string>& args) {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::cout << "Usage: monocle floor calibrate|measure ...  (monocle floor calibrate --help)\n";
+    return args.empty() ? kExitUsage : kExitOk;
+  }
+  const std::vector<std::string> rest(args.begin() + 1, args.end());
+  if (args[0] == "calibrate") return Calibrate(rest);
+  if (args[0] == "measure") return Measure(rest);
+  return Fail("unknown floor command '" + args[0] + "' (calibrate or measure)", kExitUsage);
+}
+
+}  // namespace monocle::cli

@@ -1,0 +1,49 @@
+// The monocle command line. Offline forms work on images and calibration files.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "client/cli/commands.h"
+
+namespace {
+
+constexpr const char* kUsage = R"(monocle — measurements from one camera on a mobile robot
+
+Usage: monocle COMMAND [ARGS...]    (monocle COMMAND --help for details)
+
+Commands:
+  floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES
+                  [--method full|paper] [--write] [--json]
+      Camera height, pitch, yaw and roll from one image of a chessboard on the floor.
+  floor measure --calibration CAL.pbtxt [--pixel-sigma PX] [--json] POINT...
+      Robot-frame 3D points (metres) from floor pixels "u,v" or from pixels standing
+      vertically above a floor pixel "u,v@fu,fv".
+  intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
+      Focal lengths, principal point and lens distortion from several board images.
+  render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
+               [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
+      Renders a chessboard (and boxes) on the floor as the calibrated camera sees it.
+
+Exit status: 0 success, 1 a measurement or input failed, 2 wrong command line.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    std::cout << kUsage;
+    return args.empty() ? monocle::cli::kExitUsage : monocle::cli::kExitOk;
+  }
+  const std::string command = args[0];
+  const std::vector<std::string> rest(args.begin() + 1, args.end());
+  if (command == "floor") return monocle::cli::FloorCommand(rest);
+  if (command == "intrinsics") return monocle::cli::IntrinsicsCommand(rest);
+  if (command == "render") return monocle::cli::RenderCommand(rest);
+  if (command == "--version") {
+    std::cout << "monocle 0.1.0\n";
+    return 0;
+  }
+  std::cerr << "monocle: error: unknown command '" << command << "'\n\n" << kUsage;
+  return monocle::cli::kExitUsage;
+}

@@ -1,0 +1,97 @@
+// monocle render floor: our own renderer of a chessboard (and boxes) on the floor.
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "camera/render/floor_renderer.h"
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "service/io/calibration_file.h"
+#include "service/vision/chessboard.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr const char* kHelp = R"(Usage: monocle render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
+                           [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
+
+Renders the 8-bit grey image the camera of CAL.pbtxt (intrinsics and floor section: height,
+pitch, yaw, roll) sees of a chessboard lying on the floor, as ground truth for tests and
+the simulated floor camera.
+
+  --board COLSxROWS  inner corners, e.g. 9x6; the board's x_p axis is turned by the
+                     file's yaw against X_w (eq. 10 of Xu et al.)
+  --square METRES    side of one square, metres
+  --board-origin X,Y robot-frame floor position of inner corner (0,0), metres
+                     (default: the board is centred where the optical axis meets the floor)
+  --box X,Y,W,D,H    a box standing on the floor: centre X,Y, width along X_w, depth
+                     along Y_w, height (metres); repeatable
+  --noise SIGMA      Gaussian noise, grey levels (default 0)
+  --seed N           noise seed (default 1)
+  --out IMG.png      output image (any format OpenCV writes)
+)";
+
+}  // namespace
+
+int RenderCommand(const std::vector<std::string>& argv) {
+  if (argv.empty() || argv[0] != "floor" || WantsHelp(argv)) {
+    std::cout << kHelp;
+    return WantsHelp(argv) ? kExitOk : kExitUsage;
+  }
+  auto args = Args::Parse({argv.begin() + 1, argv.end()},
+                          {{"--calibration", "--board", "--square", "--out", "--noise", "--seed",
+                            "--board-origin", "--box"},
+                           {}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (!args->positionals().empty()) return Fail("unexpected argument '" + args->positionals()[0] + "'", kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  const auto out_path = args->Require("--out");
+  if (!out_path) return Fail(out_path.error(), kExitUsage);
+  const auto board_text = args->Require("--board");
+  if (!board_text) return Fail(board_text.error(), kExitUsage);
+  const auto square = args->RequireDouble("--square");
+  if (!square) return Fail(square.error(), kExitUsage);
+  const auto spec = ParseBoardSize(*board_text, *square);
+  if (!spec) return Fail(spec.error(), kExitUsage);
+  const auto noise = args->GetDouble("--noise", 0.0);
+  if (!noise || *noise < 0) return Fail("--noise must be a number of grey levels >= 0", kExitUsage);
+  const auto seed = args->GetDouble("--seed", 1.0);
+  if (!seed || *seed < 0) return Fail("--seed must be a whole number >= 0", kExitUsage);
+
+  const auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  if (!calibration->floor) {
+    return Fail(*cal_path + " has no floor section (height, pitch, yaw, roll) to render from", kExitFailure);
+  }
+  const FloorPose& pose = calibration->floor->pose;
+  FloorScene scene;
+  scene.board_cols = spec->cols;
+  scene.board_rows = spec->rows;
+  scene.square_m = spec->square_m;
+  scene.noise_sigma = *noise;
+  scene.seed = static_cast<uint64_t>(*seed);
+  scene.board_origin_robot_m = CenteredBoardOrigin(pose, spec->cols, spec->rows, spec->square_m);
+  if (const auto origin = args->Get("--board-origin")) {
+    const auto xy = ParseNumberList(*origin);
+    if (!xy || xy->size() != 2) return Fail("--board-origin '" + *origin + "' is not X,Y in metres", kExitUsage);
+    scene.board_origin_robot_m = Eigen::Vector2d((*xy)[0], (*xy)[1]);
+  }
+  for (const auto& text : args->GetAll("--box")) {
+    const auto v = ParseNumberList(text);
+    if (!v || v->size() != 5 || (*v)[2] <= 0 || (*v)[3] <= 0 || (*v)[4] <= 0) {
+      return Fail("--box '" + text + "' is not X,Y,W,D,H in metres (W, D, H > 0)", kExitUsage);
+    }
+    scene.boxes.push_back(FloorBox{{(*v)[0], (*v)[1]}, {(*v)[2], (*v)[3]}, (*v)[4]});
+  }
+  const cv::Mat image = RenderFloorScene(calibration->intrinsics, pose, scene);
+  bool written = false;
+  try {
+    written = cv::imwrite(*out_path, image);
+  } catch (const cv::Exception& e) {
+    return Fail("cannot write '" + *out_path + "': " + e.what(), kExitFailure);
+  }
+  if (!written) return Fail("cannot write '" + *out_path + "' (unknown extension or unwritable folder)", kExitFailure);
+  return kExitOk;
+}
+
+}  // namespace monocle::cli

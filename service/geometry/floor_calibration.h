@@ -1,0 +1,62 @@
+// Extrinsic calibration of a floor camera from one chessboard lying on the floor.
+// Pure geometry: Eigen only. Board detection lives in service/vision.
+#pragma once
+
+#include <Eigen/Core>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "service/common/result.h"
+#include "service/geometry/camera_model.h"
+#include "service/geometry/floor_model.h"
+
+namespace monocle {
+
+// Inner corners of a chessboard seen in one image. Board frame P: x_p to the right in the
+// image, y_p away from the camera, origin at the corner nearest the camera on the left.
+// Corner (i, j) sits at (i * square_m, j * square_m) and its pixel at pixels[j * cols + i].
+struct BoardObservation {
+  int cols = 0;  // inner corners along x_p
+  int rows = 0;  // inner corners along y_p
+  double square_m = 0;
+  std::vector<Eigen::Vector2d> pixels;
+
+  Eigen::Vector2d BoardPoint(int i, int j) const { return {i * square_m, j * square_m}; }
+  const Eigen::Vector2d& Pixel(int i, int j) const { return pixels[j * cols + i]; }
+};
+
+enum class FloorCalibrationMethod {
+  kFull,   // all six degrees of freedom by minimising reprojection error (default)
+  kPaper,  // Xu et al. eq. (13) by least squares, then eq. (15) for the yaw
+};
+
+const char* ToString(FloorCalibrationMethod method);
+
+struct FloorCalibration {
+  FloorPose pose;
+  FloorCovariance covariance = FloorCovariance::Zero();  // (h, pitch, yaw, roll)
+  Eigen::Vector2d board_origin_robot_m = Eigen::Vector2d::Zero();  // (t_x, t_y) of eq. 10
+  double rms_px = 0;  // RMS distance between observed and reprojected corners
+  FloorCalibrationMethod method = FloorCalibrationMethod::kFull;
+
+  Eigen::Vector4d Sigma() const { return covariance.diagonal().cwiseSqrt(); }
+};
+
+std::ostream& operator<<(std::ostream& os, const FloorCalibration& c);
+
+Result<FloorCalibration> CalibrateFloor(const CameraIntrinsics& k, const BoardObservation& board,
+                                        FloorCalibrationMethod method);
+
+// Pixels of every corner of `board` (cols x rows, square) placed on the floor per eq. (10)
+// at `board_origin_robot_m`, for round-trip tests and the renderer's ground truth.
+// Fails if a corner is behind the camera.
+Result<BoardObservation> ProjectBoard(const CameraIntrinsics& k, const FloorPose& pose,
+                                      const Eigen::Vector2d& board_origin_robot_m, int cols,
+                                      int rows, double square_m);
+
+// Board frame (x_p, y_p) -> robot frame floor point, eq. (10) plus translation.
+Eigen::Vector3d BoardToRobot(double yaw_rad, const Eigen::Vector2d& board_origin_robot_m,
+                             const Eigen::Vector2d& p_board_m);
+
+}  // namespace monocle

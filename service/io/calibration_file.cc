@@ -1,0 +1,200 @@
+#include "service/io/calibration_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace monocle {
+namespace {
+
+class CollectFirstError : public google::protobuf::io::ErrorCollector {
+ public:
+  void AddError(int line, google::protobuf::io::ColumnNumber column,
+                const std::string& message) override {
+    if (text_.empty()) {
+      // The parser counts from 0.
+      text_ = "line " + std::to_string(line + 1) + ", column " + std::to_string(column + 1) +
+              ": " + message;
+    }
+  }
+  void AddWarning(int, google::protobuf::io::ColumnNumber, const std::string&) override {}
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+Error Invalid(const std::string& source, const std::string& field, const std::string& why) {
+  return MakeError(ErrorCode::kInvalidArgument, source + ": field '" + field + "' " + why);
+}
+
+bool Finite(double v) { return std::isfinite(v); }
+
+}  // namespace
+
+Result<CameraCalibration> ParseCalibration(const std::string& text, const std::string& source) {
+  proto::Calibration msg;
+  google::protobuf::TextFormat::Parser parser;
+  CollectFirstError errors;
+  parser.RecordErrorsTo(&errors);
+  if (!parser.ParseFromString(text, &msg)) {
+    return MakeError(ErrorCode::kInvalidArgument, source + ": " + errors.text());
+  }
+  if (!msg.has_intrinsics()) return Invalid(source, "intrinsics", "is missing");
+  const auto& in = msg.intrinsics();
+  CameraCalibration out;
+  auto& k = out.intrinsics;
+  if (in.width() == 0 || in.width() > 65535) return Invalid(source, "intrinsics.width", "must be 1..65535 pixels");
+  if (in.height() == 0 || in.height() > 65535) return Invalid(source, "intrinsics.height", "must be 1..65535 pixels");
+  k.width_px = static_cast<int>(in.width());
+  k.height_px = static_cast<int>(in.height());
+  if (!(in.fx() > 0) || !Finite(in.fx())) return Invalid(source, "intrinsics.fx", "must be a positive focal length in pixels");
+  if (!(in.fy() > 0) || !Finite(in.fy())) return Invalid(source, "intrinsics.fy", "must be a positive focal length in pixels");
+  if (!Finite(in.cx()) || in.cx() < 0 || in.cx() > k.width_px) return Invalid(source, "intrinsics.cx", "must lie inside the image (0..width pixels)");
+  if (!Finite(in.cy()) || in.cy() < 0 || in.cy() > k.height_px) return Invalid(source, "intrinsics.cy", "must lie inside the image (0..height pixels)");
+  k.fx = in.fx();
+  k.fy = in.fy();
+  k.cx = in.cx();
+  k.cy = in.cy();
+  const int nd = in.distortion_size();
+  if (nd != 0 && nd != 4 && nd != 5 && nd != 8) {
+    return Invalid(source, "intrinsics.distortion", "must have 0, 4 (k1 k2 p1 p2), 5 (+k3) or 8 (+k3..k6) values, not " + std::to_string(nd));
+  }
+  for (int i = 0; i < nd; ++i) {
+    if (!Finite(in.distortion(i)) || std::abs(in.distortion(i)) > 1e4) {
+      return Invalid(source, "intrinsics.distortion", "value " + std::to_string(i + 1) + " is not a finite coefficient");
+    }
+    k.distortion[i] = in.distortion(i);
+  }
+  out.intrinsics_rms_px = in.has_rms_px() ? in.rms_px() : 0.0;
+
+  if (msg.has_floor()) {
+    const auto& f = msg.floor();
+    FloorCalibration fc;
+    if (!f.has_height()) return Invalid(source, "floor.height", "is missing");
+    if (!(f.height() > 0) || !Finite(f.height()) || f.height() > 1000) return Invalid(source, "floor.height", "must be a positive height in metres");
+    if (!f.has_pitch()) return Invalid(source, "floor.pitch", "is missing");
+    if (!Finite(f.pitch()) || f.pitch() <= 0 || f.pitch() >= std::numbers::pi) {
+      return Invalid(source, "floor.pitch", "must be an angle in (0, pi) radians between the floor's up normal and the optical axis");
+    }
+    if (!Finite(f.yaw()) || std::abs(f.yaw()) > std::numbers::pi) return Invalid(source, "floor.yaw", "must be an angle in [-pi, pi] radians");
+    if (!Finite(f.roll()) || std::abs(f.roll()) > std::numbers::pi) return Invalid(source, "floor.roll", "must be an angle in [-pi, pi] radians");
+    fc.pose = FloorPose{f.height(), f.pitch(), f.yaw(), f.roll()};
+    if (f.covariance_size() != 0 && f.covariance_size() != 16) {
+      return Invalid(source, "floor.covariance", "must have 16 values (4x4, row-major), not " + std::to_string(f.covariance_size()));
+    }
+    for (int i = 0; i < f.covariance_size(); ++i) {
+      if (!Finite(f.covariance(i))) return Invalid(source, "floor.covariance", "has a value that is not finite");
+      fc.covariance(i / 4, i % 4) = f.covariance(i);
+    }
+    for (int i = 0; i < 4; ++i) {
+      if (fc.covariance(i, i) < 0) return Invalid(source, "floor.covariance", "has a negative variance on its diagonal");
+    }
+    fc.rms_px = f.has_rms_px() ? f.rms_px() : 0.0;
+    if (f.has_method() && f.method() != "full" && f.method() != "paper") {
+      return Invalid(source, "floor.method", "must be \"full\" or \"paper\"");
+    }
+    fc.method = f.method() == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
+    out.floor = fc;
+  }
+  if (msg.has_corner() && msg.corner().has_ceiling_distance()) {
+    const double z = msg.corner().ceiling_distance();
+    if (!(z > 0) || !Finite(z) || z > 1000) return Invalid(source, "corner.ceiling_distance", "must be a positive distance in metres");
+    out.ceiling_distance_m = z;
+  }
+  return out;
+}
+
+Result<CameraCalibration> LoadCalibrationFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) {
+    return MakeError(ErrorCode::kNotFound, "cannot read calibration file '" + path + "': " + std::strerror(errno));
+  }
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return ParseCalibration(buffer.str(), path);
+}
+
+std::string FormatCalibration(const CameraCalibration& c) {
+  proto::Calibration msg;
+  auto* in = msg.mutable_intrinsics();
+  const auto& k = c.intrinsics;
+  in->set_width(k.width_px);
+  in->set_height(k.height_px);
+  in->set_fx(k.fx);
+  in->set_fy(k.fy);
+  in->set_cx(k.cx);
+  in->set_cy(k.cy);
+  int nd = 8;
+  while (nd > 0 && k.distortion[nd - 1] == 0) --nd;
+  nd = nd == 0 ? 0 : (nd <= 4 ? 4 : (nd == 5 ? 5 : 8));
+  for (int i = 0; i < nd; ++i) in->add_distortion(k.distortion[i]);
+  if (c.intrinsics_rms_px > 0) in->set_rms_px(c.intrinsics_rms_px);
+  if (c.floor) {
+    auto* f = msg.mutable_floor();
+    f->set_height(c.floor->pose.height_m);
+    f->set_pitch(c.floor->pose.pitch_rad);
+    f->set_yaw(c.floor->pose.yaw_rad);
+    f->set_roll(c.floor->pose.roll_rad);
+    if (!c.floor->covariance.isZero()) {
+      for (int i = 0; i < 16; ++i) f->add_covariance(c.floor->covariance(i / 4, i % 4));
+    }
+    if (c.floor->rms_px > 0) f->set_rms_px(c.floor->rms_px);
+    f->set_method(ToString(c.floor->method));
+  }
+  if (c.ceiling_distance_m) msg.mutable_corner()->set_ceiling_distance(*c.ceiling_distance_m);
+  google::protobuf::TextFormat::Printer printer;
+  std::string text;
+  printer.PrintToString(msg, &text);
+  return "# monocle camera calibration (idl/calibration.proto). Metres, radians, pixels.\n" + text;
+}
+
+Status WriteFileAtomically(const std::string& path, const std::string& contents) {
+  const std::filesystem::path target(path);
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+  std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
+  const int fd = mkstemp(tmp.data());
+  if (fd < 0) {
+    return MakeError(ErrorCode::kIo, "cannot create a temporary file next to '" + path + "': " + std::strerror(errno));
+  }
+  size_t written = 0;
+  while (written < contents.size()) {
+    const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      return MakeError(ErrorCode::kIo, "cannot write '" + path + "': " + why);
+    }
+    written += static_cast<size_t>(n);
+  }
+  fchmod(fd, 0644);
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    return MakeError(ErrorCode::kIo, "cannot flush '" + path + "': " + why);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    return MakeError(ErrorCode::kIo, "cannot replace '" + path + "': " + why);
+  }
+  return Ok{};
+}
+
+Status SaveCalibrationFileAtomically(const std::string& path, const CameraCalibration& c) {
+  return WriteFileAtomically(path, FormatCalibration(c));
+}
+
+}  // namespace monocle

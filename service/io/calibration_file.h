@@ -1,0 +1,37 @@
+// Calibration files: text-format protobuf (idl/calibration.proto), validated on load and
+// written atomically.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "idl/calibration.pb.h"
+#include "service/common/result.h"
+#include "service/geometry/camera_model.h"
+#include "service/geometry/floor_calibration.h"
+
+namespace monocle {
+
+struct CameraCalibration {
+  CameraIntrinsics intrinsics;
+  std::optional<FloorCalibration> floor;     // absent until the floor is calibrated
+  std::optional<double> ceiling_distance_m;  // corner { ceiling_distance }
+  double intrinsics_rms_px = 0;              // 0 when unknown
+};
+
+// Parses text-format protobuf. Errors name the line and column (syntax, unknown fields)
+// or the field (missing or impossible values). `source` names the file in messages.
+Result<CameraCalibration> ParseCalibration(const std::string& text, const std::string& source);
+
+Result<CameraCalibration> LoadCalibrationFile(const std::string& path);
+
+std::string FormatCalibration(const CameraCalibration& calibration);
+
+// Writes to a temporary file in the same directory, flushes it to disk and renames it over
+// `path`, so readers see either the old or the new file, never a partial one.
+Status SaveCalibrationFileAtomically(const std::string& path, const CameraCalibration& calibration);
+
+// Writes any text file atomically (same procedure).
+Status WriteFileAtomically(const std::string& path, const std::string& contents);
+
+}  // namespace monocle

@@ -1,0 +1,93 @@
+#include "service/vision/chessboard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <regex>
+
+namespace monocle {
+
+Result<BoardSpec> ParseBoardSize(const std::string& text, double square_m) {
+  static const std::regex pattern(R"(^\s*(\d+)\s*[xX]\s*(\d+)\s*$)");
+  std::smatch match;
+  if (!std::regex_match(text, match, pattern)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--board '" + text + "' is not COLSxROWS (inner corners, e.g. 9x6)");
+  }
+  BoardSpec spec{std::stoi(match[1]), std::stoi(match[2]), square_m};
+  if (spec.cols < 2 || spec.rows < 2 || spec.cols > 100 || spec.rows > 100) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--board '" + text + "': each count of inner corners must be 2..100");
+  }
+  if (!(square_m > 0) || !std::isfinite(square_m)) {
+    return MakeError(ErrorCode::kInvalidArgument, "--square must be a positive length in metres");
+  }
+  return spec;
+}
+
+Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& spec) {
+  if (grey.empty() || grey.type() != CV_8UC1) {
+    return MakeError(ErrorCode::kInvalidArgument, "board detection needs an 8-bit grey image");
+  }
+  std::vector<cv::Point2f> corners;
+  const bool found = cv::findChessboardCorners(
+      grey, cv::Size(spec.cols, spec.rows), corners,
+      cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
+  if (!found) {
+    return MakeError(ErrorCode::kNotFound,
+                     "no " + std::to_string(spec.cols) + "x" + std::to_string(spec.rows) +
+                         " chessboard (inner corners) found in the image; check --board and that "
+                         "the whole board is in view");
+  }
+  // Subpixel refinement with a window well inside the smallest square seen.
+  double min_spacing = 1e9;
+  for (int j = 0; j < spec.rows; ++j) {
+    for (int i = 0; i < spec.cols; ++i) {
+      const cv::Point2f p = corners[j * spec.cols + i];
+      if (i + 1 < spec.cols) min_spacing = std::min<double>(min_spacing, cv::norm(p - corners[j * spec.cols + i + 1]));
+      if (j + 1 < spec.rows) min_spacing = std::min<double>(min_spacing, cv::norm(p - corners[(j + 1) * spec.cols + i]));
+    }
+  }
+  const int half_window = std::clamp(static_cast<int>(min_spacing * 0.4), 2, 11);
+  cv::cornerSubPix(grey, corners, cv::Size(half_window, half_window), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
+
+  // Directions of the detector's two index axes in the image.
+  const cv::Point2f along_row = corners[spec.cols - 1] - corners[0];
+  const cv::Point2f along_col = corners[(spec.rows - 1) * spec.cols] - corners[0];
+  // x_p follows the index axis that is more horizontal in the image.
+  const bool swap_axes = std::abs(along_col.x) / (cv::norm(along_col) + 1e-9) >
+                         std::abs(along_row.x) / (cv::norm(along_row) + 1e-9);
+  const cv::Point2f x_dir = swap_axes ? along_col : along_row;
+  const cv::Point2f y_dir = swap_axes ? along_row : along_col;
+  const bool flip_x = x_dir.x < 0;  // x_p must run to the right (+u)
+  const bool flip_y = y_dir.y > 0;  // y_p must run away from the camera (-v)
+
+  BoardObservation out;
+  out.cols = swap_axes ? spec.rows : spec.cols;
+  out.rows = swap_axes ? spec.cols : spec.rows;
+  out.square_m = spec.square_m;
+  out.pixels.resize(corners.size());
+  for (int j = 0; j < out.rows; ++j) {
+    for (int i = 0; i < out.cols; ++i) {
+      const int bi = flip_x ? out.cols - 1 - i : i;  // index along the detector's x-axis
+      const int bj = flip_y ? out.rows - 1 - j : j;
+      const int detector_col = swap_axes ? bj : bi;
+      const int detector_row = swap_axes ? bi : bj;
+      const cv::Point2f p = corners[detector_row * spec.cols + detector_col];
+      out.pixels[j * out.cols + i] = Eigen::Vector2d(p.x, p.y);
+    }
+  }
+  // A real camera never sees the floor mirrored: x_p cross y_p must point up, which in an
+  // image of a floor seen from above means y_p is x_p turned counter-clockwise on screen.
+  const Eigen::Vector2d ex = out.Pixel(out.cols - 1, 0) - out.Pixel(0, 0);
+  const Eigen::Vector2d ey = out.Pixel(0, out.rows - 1) - out.Pixel(0, 0);
+  if (ex.x() * ey.y() - ex.y() * ey.x() > 0) {
+    return MakeError(ErrorCode::kDegenerate,
+                     "the board's corner grid is mirrored; the image cannot be of a floor seen from above");
+  }
+  return out;
+}
+
+}  // namespace monocle
