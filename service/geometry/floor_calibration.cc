@@ -22,7 +22,8 @@ bool BoardResiduals(const CameraIntrinsics& k, const BoardObservation& board,
   const Eigen::Vector2d origin(q[4], q[5]);
   for (int j = 0; j < board.rows; ++j) {
     for (int i = 0; i < board.cols; ++i) {
-      const Eigen::Vector3d p_c = rot * BoardToRobot(pose.yaw_rad, origin, board.BoardPoint(i, j)) + trans;
+      const Eigen::Vector3d p_c =
+          rot * BoardToRobot(pose.yaw_rad, origin, board.BoardPoint(i, j)) + trans;
       if (p_c.z() <= 1e-9) return false;
       const int idx = j * board.cols + i;
       r->segment<2>(2 * idx) = ProjectToPixel(k, p_c) - board.pixels[idx];
@@ -122,8 +123,8 @@ Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObs
   Eigen::VectorXd q = *init;
   const int m = 2 * static_cast<int>(board.pixels.size());
   const auto summary = MinimizeLevenbergMarquardt(
-      [&](const Eigen::VectorXd& x, Eigen::VectorXd* r) { return BoardResiduals(k, board, x, r); }, m,
-      &q);
+      [&](const Eigen::VectorXd& x, Eigen::VectorXd* r) { return BoardResiduals(k, board, x, r); },
+      m, &q);
   if (summary.residuals.size() != m) {
     return MakeError(ErrorCode::kDegenerate, "the board pose could not be fitted");
   }
@@ -148,21 +149,26 @@ struct PaperEstimate {
   double height, pitch, yaw;
 };
 
-// Xu et al. section 3: eq. (13) over every pair of neighbouring corners in a column,
+// Xu et al. section 3: eq. (13) over every pair of corners in a column,
 // solved by least squares for (sin 2theta, cos 2theta, h / cos alpha); then eq. (15)
-// over every pair of neighbouring corners in a row for tan alpha. The paper's printed
+// over every pair of corners in a row for tan alpha. The paper's printed
 // (15) is garbled in our copy; this is (14) solved for tan alpha.
 std::optional<PaperEstimate> EstimatePaper(const BoardObservation& board,
                                            const std::vector<Eigen::Vector2d>& normalized) {
   const double s = board.square_m;
   std::vector<Eigen::RowVector3d> rows;
   std::vector<double> rhs;
+  // Every pair of corners in a column, not only neighbours: eq. (13) holds for any pair,
+  // and the longer baselines condition the solve far better.
   for (int i = 0; i < board.cols; ++i) {
     for (int j = 1; j < board.rows; ++j) {
-      const double y = normalized[j * board.cols + i].y();
-      const double y_prev = normalized[(j - 1) * board.cols + i].y();
-      rows.emplace_back(s * (y + y_prev), -s * (1 - y * y_prev), -2 * (y - y_prev));
-      rhs.push_back(s * (1 + y * y_prev));
+      for (int j_prev = 0; j_prev < j; ++j_prev) {
+        const double dy_p = (j - j_prev) * s;
+        const double y = normalized[j * board.cols + i].y();
+        const double y_prev = normalized[j_prev * board.cols + i].y();
+        rows.emplace_back(dy_p * (y + y_prev), -dy_p * (1 - y * y_prev), -2 * (y - y_prev));
+        rhs.push_back(dy_p * (1 + y * y_prev));
+      }
     }
   }
   if (rows.size() < 3) return std::nullopt;
@@ -183,12 +189,15 @@ std::optional<PaperEstimate> EstimatePaper(const BoardObservation& board,
   double num = 0, den = 0;
   for (int j = 0; j < board.rows; ++j) {
     for (int i = 1; i < board.cols; ++i) {
-      const double y = normalized[j * board.cols + i].y();
-      const double y_prev = normalized[j * board.cols + i - 1].y();
-      const double coef = s * (-(y + y_prev) * s2 + (1 - y * y_prev) * c2 + (1 + y * y_prev));
-      const double target = 2 * (y - y_prev) * h_over_cos_alpha;
-      num += coef * target;
-      den += coef * coef;
+      for (int i_prev = 0; i_prev < i; ++i_prev) {
+        const double dx_p = (i - i_prev) * s;
+        const double y = normalized[j * board.cols + i].y();
+        const double y_prev = normalized[j * board.cols + i_prev].y();
+        const double coef = dx_p * (-(y + y_prev) * s2 + (1 - y * y_prev) * c2 + (1 + y * y_prev));
+        const double target = 2 * (y - y_prev) * h_over_cos_alpha;
+        num += coef * target;
+        den += coef * coef;
+      }
     }
   }
   if (!(den > 0)) return std::nullopt;
@@ -200,8 +209,9 @@ Result<FloorCalibration> CalibratePaper(const CameraIntrinsics& k, const BoardOb
                                         const std::vector<Eigen::Vector2d>& normalized) {
   const auto estimate = EstimatePaper(board, normalized);
   if (!estimate || !(estimate->height > 0)) {
-    return MakeError(ErrorCode::kDegenerate,
-                     "the paper's linear calibration (eq. 13) has no valid solution for this board");
+    return MakeError(
+        ErrorCode::kDegenerate,
+        "the paper's linear calibration (eq. 13) has no valid solution for this board");
   }
   FloorCalibration out;
   out.method = FloorCalibrationMethod::kPaper;
@@ -276,7 +286,8 @@ Result<BoardObservation> ProjectBoard(const CameraIntrinsics& k, const FloorPose
   BoardObservation board{cols, rows, square_m, {}};
   for (int j = 0; j < rows; ++j) {
     for (int i = 0; i < cols; ++i) {
-      const auto px = ProjectRobotPoint(k, pose, BoardToRobot(pose.yaw_rad, origin, board.BoardPoint(i, j)));
+      const auto px =
+          ProjectRobotPoint(k, pose, BoardToRobot(pose.yaw_rad, origin, board.BoardPoint(i, j)));
       if (!px) return MakeError(ErrorCode::kOutOfRange, "a board corner is behind the camera");
       board.pixels.push_back(*px);
     }
