@@ -30,10 +30,23 @@ Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& 
   if (grey.empty() || grey.type() != CV_8UC1) {
     return MakeError(ErrorCode::kInvalidArgument, "board detection needs an 8-bit grey image");
   }
+  // OpenCV's sector-based detector, coarse to fine. The classic findChessboardCorners can
+  // take minutes when a larger board than requested is in view (measured: 157 s for 10x8
+  // on an 11x8 board at 1280x1024); SB fails in a fraction of a second instead. Detecting on
+  // a reduced image is 3-5x faster; the corners are refined at full resolution below.
   std::vector<cv::Point2f> corners;
-  const bool found = cv::findChessboardCorners(
-      grey, cv::Size(spec.cols, spec.rows), corners,
-      cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
+  bool found = false;
+  for (const double scale : {0.35, 0.5, 1.0}) {
+    if (scale < 1.0 && std::min(grey.cols, grey.rows) * scale < 240) continue;
+    cv::Mat scaled = grey;
+    if (scale < 1.0) cv::resize(grey, scaled, cv::Size(), scale, scale, cv::INTER_AREA);
+    if (cv::findChessboardCornersSB(scaled, cv::Size(spec.cols, spec.rows), corners, 0)) {
+      // INTER_AREA maps pixel centres as (x + 0.5) * scale - 0.5.
+      for (auto& c : corners) c = (c + cv::Point2f(0.5f, 0.5f)) * static_cast<float>(1.0 / scale) - cv::Point2f(0.5f, 0.5f);
+      found = true;
+      break;
+    }
+  }
   if (!found) {
     return MakeError(ErrorCode::kNotFound,
                      "no " + std::to_string(spec.cols) + "x" + std::to_string(spec.rows) +
@@ -78,14 +91,6 @@ Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& 
       const cv::Point2f p = corners[detector_row * spec.cols + detector_col];
       out.pixels[j * out.cols + i] = Eigen::Vector2d(p.x, p.y);
     }
-  }
-  // A real camera never sees the floor mirrored: x_p cross y_p must point up, which in an
-  // image of a floor seen from above means y_p is x_p turned counter-clockwise on screen.
-  const Eigen::Vector2d ex = out.Pixel(out.cols - 1, 0) - out.Pixel(0, 0);
-  const Eigen::Vector2d ey = out.Pixel(0, out.rows - 1) - out.Pixel(0, 0);
-  if (ex.x() * ey.y() - ex.y() * ey.x() > 0) {
-    return MakeError(ErrorCode::kDegenerate,
-                     "the board's corner grid is mirrored; the image cannot be of a floor seen from above");
   }
   return out;
 }

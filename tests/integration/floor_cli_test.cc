@@ -1,0 +1,200 @@
+// The offline floor tools as a user runs them: real processes, real files.
+#include <google/protobuf/struct.pb.h>
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "idl/cli_output.pb.h"
+#include "service/geometry/floor_model.h"
+#include "service/geometry/test_scenes.h"
+#include "service/io/calibration_file.h"
+#include "tests/integration/cli_process.h"
+
+namespace monocle {
+namespace {
+
+using testing::Deg;
+using testing::ProcessResult;
+using testing::ReadFile;
+using testing::RunMonocle;
+using testing::TempDir;
+
+const FloorPose kTruth{1.05, Deg(118), Deg(4), Deg(1.5)};
+
+class FloorCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    CameraCalibration truth;
+    truth.intrinsics = testing::PaperCamera();
+    truth.floor = FloorCalibration{};
+    truth.floor->pose = kTruth;
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "truth.pbtxt", truth).ok());
+    CameraCalibration intrinsics_only;
+    intrinsics_only.intrinsics = truth.intrinsics;
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "cal.pbtxt", intrinsics_only).ok());
+    const auto r = RunMonocle(dir_, "render floor --calibration " + dir_ / "truth.pbtxt" +
+                                        " --board 11x8 --square 0.05 --noise 2 --box 0.4,2.4,0.3,0.3,0.5 --out " +
+                                        dir_ / "board.png");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+
+  TempDir dir_{"monocle_floor_cli"};
+};
+
+TEST_F(FloorCliTest, CalibrateWritesTheFileAndMeasureReadsIt) {
+  const auto cal = RunMonocle(dir_, "floor calibrate " + dir_ / "board.png" + " --calibration " +
+                                        dir_ / "cal.pbtxt" + " --board 11x8 --square 0.05 --write --json");
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  proto::FloorCalibrationOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(cal.out, &out).ok()) << cal.out;
+  EXPECT_NEAR(out.height(), kTruth.height_m, 0.002 * kTruth.height_m);
+  EXPECT_NEAR(out.pitch(), kTruth.pitch_rad, Deg(0.03));
+  EXPECT_NEAR(out.yaw(), kTruth.yaw_rad, Deg(0.05));
+  EXPECT_NEAR(out.roll(), kTruth.roll_rad, Deg(0.05));
+  EXPECT_GT(out.sigma().height(), 0);
+  EXPECT_LT(out.rms_px(), 0.2);
+  EXPECT_EQ(out.method(), "full");
+  const auto written = LoadCalibrationFile(dir_ / "cal.pbtxt");
+  ASSERT_TRUE(written.ok()) << written.error();
+  ASSERT_TRUE(written->floor.has_value());
+  EXPECT_DOUBLE_EQ(written->floor->pose.height_m, out.height());
+
+  // Points projected from the ground truth: a floor point and a box corner above it.
+  const auto k = testing::PaperCamera();
+  const Eigen::Vector3d floor_point(0.25, 2.25, 0), top_point(0.25, 2.25, 0.5);
+  const auto f = *ProjectRobotPoint(k, kTruth, floor_point);
+  const auto t = *ProjectRobotPoint(k, kTruth, top_point);
+  std::ostringstream args;
+  args.precision(10);
+  args << "floor measure --calibration " << dir_ / "cal.pbtxt" << " --json " << f.x() << "," << f.y() << " "
+       << t.x() << "," << t.y() << "@" << f.x() << "," << f.y();
+  const ProcessResult m = RunMonocle(dir_, args.str());
+  EXPECT_EQ(m.exit_code, 0) << m.err;
+  google::protobuf::ListValue list;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(m.out, &list).ok()) << m.out;
+  ASSERT_EQ(list.values_size(), 2);
+  const auto& p0 = list.values(0).struct_value().fields();
+  EXPECT_NEAR(p0.at("x").number_value(), floor_point.x(), 1e-3 * floor_point.norm());
+  EXPECT_NEAR(p0.at("y").number_value(), floor_point.y(), 1e-3 * floor_point.norm());
+  EXPECT_EQ(p0.at("z").number_value(), 0);
+  EXPECT_GT(p0.at("sigma").struct_value().fields().at("y").number_value(), 0);
+  const auto& p1 = list.values(1).struct_value().fields();
+  EXPECT_NEAR(p1.at("z").number_value(), top_point.z(), 0.005 * top_point.z());
+}
+
+TEST_F(FloorCliTest, PointAboveTheHorizonIsAnErrorEntryAndFailsTheCommand) {
+  // A nearly level camera: the top rows of its image see the wall, not the floor.
+  CameraCalibration level;
+  level.intrinsics = testing::PaperCamera();
+  level.floor = FloorCalibration{};
+  level.floor->pose = FloorPose{1.0, Deg(97), 0, 0};
+  ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "level.pbtxt", level).ok());
+  const ProcessResult m = RunMonocle(dir_, "floor measure --calibration " + dir_ / "level.pbtxt" + " --json 640,900 640,2");
+  EXPECT_EQ(m.exit_code, 1);
+  google::protobuf::ListValue list;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(m.out, &list).ok()) << m.out;
+  ASSERT_EQ(list.values_size(), 2);
+  EXPECT_TRUE(list.values(0).struct_value().fields().count("y"));
+  const auto& p1 = list.values(1).struct_value().fields();
+  ASSERT_TRUE(p1.count("error"));
+  EXPECT_NE(p1.at("error").string_value().find("horizon"), std::string::npos);
+  EXPECT_FALSE(p1.count("x"));
+}
+
+TEST_F(FloorCliTest, PaperMethodRunsAndReportsRollZero) {
+  const auto cal = RunMonocle(dir_, "floor calibrate " + dir_ / "board.png" + " --calibration " +
+                                        dir_ / "cal.pbtxt" + " --board 11x8 --square 0.05 --method paper --json");
+  ASSERT_EQ(cal.exit_code, 0) << cal.err;
+  proto::FloorCalibrationOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(cal.out, &out).ok()) << cal.out;
+  EXPECT_EQ(out.method(), "paper");
+  EXPECT_EQ(out.roll(), 0);
+  EXPECT_GT(out.height(), 0);
+}
+
+// Every bad input: a clear message, a non-zero exit, and the calibration file untouched.
+struct BadInput {
+  std::string name;
+  std::string args;  // {dir} is replaced by the test directory
+  int exit_code;
+  std::string message;
+};
+
+class FloorCliBadInputTest : public FloorCliTest, public ::testing::WithParamInterface<BadInput> {};
+
+TEST_P(FloorCliBadInputTest, FailsClearlyAndWritesNothing) {
+  // Prepare the special inputs some cases need.
+  cv::imwrite(dir_ / "blank.png", cv::Mat(1024, 1280, CV_8UC1, cv::Scalar(128)));
+  cv::Mat board = cv::imread(dir_ / "board.png", cv::IMREAD_GRAYSCALE), upside_down;
+  cv::rotate(board, upside_down, cv::ROTATE_180);
+  cv::imwrite(dir_ / "upside_down.png", upside_down);
+  { std::ofstream(dir_ / "garbage.png") << "not an image"; }
+  { std::ofstream(dir_ / "broken.pbtxt") << "intrinsics { width: 1280 height: 1024\n fx: 1600 fy: 1600 cx: 640 cy: 512 focal: 3 }\n"; }
+  const std::string before = ReadFile(dir_ / "cal.pbtxt");
+
+  std::string args = GetParam().args;
+  for (size_t pos; (pos = args.find("{dir}")) != std::string::npos;) args.replace(pos, 5, dir_.path().string());
+  const ProcessResult r = RunMonocle(dir_, args);
+  EXPECT_EQ(r.exit_code, GetParam().exit_code) << r.err;
+  EXPECT_NE(r.err.find(GetParam().message), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(dir_ / "cal.pbtxt"), before);
+}
+
+const std::string kCalibrate = "floor calibrate --calibration {dir}/cal.pbtxt --board 11x8 --square 0.05 --write ";
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, FloorCliBadInputTest,
+    ::testing::Values(
+        BadInput{"MissingImage", kCalibrate + "{dir}/nope.png", 1, "no such file"},
+        BadInput{"UnreadableImage", kCalibrate + "{dir}/garbage.png", 1, "not an image format"},
+        BadInput{"NoBoard", kCalibrate + "{dir}/blank.png", 1, "no 11x8 chessboard"},
+        BadInput{"WrongBoardSize", "floor calibrate --calibration {dir}/cal.pbtxt --board 10x8 --square 0.05 --write {dir}/board.png", 1, "no 10x8 chessboard"},
+        BadInput{"UpsideDownIsDegenerate", kCalibrate + "{dir}/upside_down.png", 1, "upside down"},
+        BadInput{"BadBoardSpec", "floor calibrate --calibration {dir}/cal.pbtxt --board 11by8 --square 0.05 --write {dir}/board.png", 2, "COLSxROWS"},
+        BadInput{"BadSquare", "floor calibrate --calibration {dir}/cal.pbtxt --board 11x8 --square -1 --write {dir}/board.png", 2, "--square"},
+        BadInput{"BrokenCalibrationFile", "floor calibrate --calibration {dir}/broken.pbtxt --board 11x8 --square 0.05 --write {dir}/board.png", 1, "line 2"},
+        BadInput{"MalformedPoint", "floor measure --calibration {dir}/truth.pbtxt 640,800 12,ab", 2, "POINT '12,ab'"},
+        BadInput{"MalformedPairedPoint", "floor measure --calibration {dir}/truth.pbtxt 640,500@640", 2, "u,v@fu,fv"},
+        BadInput{"NoPoints", "floor measure --calibration {dir}/truth.pbtxt", 2, "no POINT"},
+        BadInput{"MeasureWithoutFloorSection", "floor measure --calibration {dir}/cal.pbtxt 640,800", 1, "no floor section"},
+        BadInput{"PointOutsideImage", "floor measure --calibration {dir}/truth.pbtxt 5000,800", 1, ""},
+        BadInput{"UnknownOption", "floor measure --calibraton {dir}/truth.pbtxt 640,800", 2, "unknown option --calibraton"}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViews) {
+  TempDir dir("monocle_intrinsics_cli");
+  const auto k = testing::PaperCamera();
+  std::vector<std::string> images;
+  const FloorPose views[] = {{1.0, Deg(120), Deg(0), Deg(0)},    {1.0, Deg(135), Deg(25), Deg(10)},
+                             {0.9, Deg(115), Deg(-20), Deg(-12)}, {1.2, Deg(140), Deg(40), Deg(-5)},
+                             {0.8, Deg(125), Deg(-35), Deg(15)},  {1.1, Deg(145), Deg(10), Deg(20)}};
+  int index = 0;
+  for (const auto& pose : views) {
+    CameraCalibration c;
+    c.intrinsics = k;
+    c.floor = FloorCalibration{};
+    c.floor->pose = pose;
+    const std::string cal = dir / ("view" + std::to_string(index) + ".pbtxt");
+    ASSERT_TRUE(SaveCalibrationFileAtomically(cal, c).ok());
+    images.push_back(dir / ("view" + std::to_string(index) + ".png"));
+    const auto r = RunMonocle(dir, "render floor --calibration " + cal + " --board 9x6 --square 0.05 --noise 2 --out " + images.back());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ++index;
+  }
+  std::string args = "intrinsics calibrate --board 9x6 --square 0.05 --out " + dir / "intrinsics.pbtxt";
+  for (const auto& i : images) args += " " + i;
+  const auto r = RunMonocle(dir, args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto got = LoadCalibrationFile(dir / "intrinsics.pbtxt");
+  ASSERT_TRUE(got.ok()) << got.error();
+  EXPECT_NEAR(got->intrinsics.fx, k.fx, 0.01 * k.fx);
+  EXPECT_NEAR(got->intrinsics.fy, k.fy, 0.01 * k.fy);
+  EXPECT_NEAR(got->intrinsics.cx, k.cx, 10);
+  EXPECT_NEAR(got->intrinsics.cy, k.cy, 10);
+  EXPECT_NEAR(got->intrinsics.distortion[0], k.distortion[0], 0.03);
+}
+
+}  // namespace
+}  // namespace monocle
