@@ -40,13 +40,17 @@ double IntersectBoxes(const std::vector<FloorBox>& boxes, const Eigen::Vector3d&
                       const Eigen::Vector3d& dir, double* shade) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& box : boxes) {
-    const Eigen::Vector3d lo(box.center_m.x() - box.size_m.x() / 2, box.center_m.y() - box.size_m.y() / 2, 0);
-    const Eigen::Vector3d hi(box.center_m.x() + box.size_m.x() / 2, box.center_m.y() + box.size_m.y() / 2, box.height_m);
-    double t_near = -std::numeric_limits<double>::infinity(), t_far = std::numeric_limits<double>::infinity();
+    const Eigen::Vector3d lo(box.center_m.x() - box.size_m.x() / 2,
+                             box.center_m.y() - box.size_m.y() / 2, 0);
+    const Eigen::Vector3d hi(box.center_m.x() + box.size_m.x() / 2,
+                             box.center_m.y() + box.size_m.y() / 2, box.height_m);
+    double t_near = -std::numeric_limits<double>::infinity(),
+           t_far = std::numeric_limits<double>::infinity();
     int axis_near = -1;
     for (int a = 0; a < 3; ++a) {
       if (std::abs(dir[a]) < 1e-15) {
-        if (origin[a] < lo[a] || origin[a] > hi[a]) t_near = std::numeric_limits<double>::infinity();
+        if (origin[a] < lo[a] || origin[a] > hi[a])
+          t_near = std::numeric_limits<double>::infinity();
         continue;
       }
       double t0 = (lo[a] - origin[a]) / dir[a], t1 = (hi[a] - origin[a]) / dir[a];
@@ -75,12 +79,14 @@ Eigen::Vector2d CenteredBoardOrigin(const FloorPose& pose, int cols, int rows, d
     const double t = pose.height_m / -axis.z();
     center = Eigen::Vector2d(axis.x() * t, axis.y() * t);
   }
-  const Eigen::Vector3d half = BoardToRobot(pose.yaw_rad, Eigen::Vector2d::Zero(),
-                                            Eigen::Vector2d((cols - 1) * square_m / 2, (rows - 1) * square_m / 2));
+  const Eigen::Vector3d half =
+      BoardToRobot(pose.yaw_rad, Eigen::Vector2d::Zero(),
+                   Eigen::Vector2d((cols - 1) * square_m / 2, (rows - 1) * square_m / 2));
   return center - half.head<2>();
 }
 
-cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose, const FloorScene& scene) {
+cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose,
+                         const FloorScene& scene) {
   const int w = k.width_px, h = k.height_px;
   const Eigen::Matrix3d r_robot_camera = RotationCameraFromRobot(pose).transpose();
   const Eigen::Vector3d camera_center(0, 0, pose.height_m);
@@ -101,15 +107,18 @@ cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose, const
       if (!n) continue;
       const Eigen::Vector3d dir = r_robot_camera * Eigen::Vector3d(n->x(), n->y(), 1.0);
       double shade = 0;
-      const double t_box = scene.boxes.empty() ? std::numeric_limits<double>::infinity()
-                                               : IntersectBoxes(scene.boxes, camera_center, dir, &shade);
-      const double t_floor = dir.z() < -1e-9 ? pose.height_m / -dir.z() : std::numeric_limits<double>::infinity();
+      const double t_box = scene.boxes.empty()
+                               ? std::numeric_limits<double>::infinity()
+                               : IntersectBoxes(scene.boxes, camera_center, dir, &shade);
+      const double t_floor =
+          dir.z() < -1e-9 ? pose.height_m / -dir.z() : std::numeric_limits<double>::infinity();
       if (t_box < t_floor) {
         shade_row[u] = shade;
         continue;
       }
       if (!std::isfinite(t_floor)) continue;
-      const Eigen::Vector2d p = (camera_center + t_floor * dir).head<2>() - scene.board_origin_robot_m;
+      const Eigen::Vector2d p =
+          (camera_center + t_floor * dir).head<2>() - scene.board_origin_robot_m;
       // Inverse of eq. (10).
       bx[u] = ca * p.x() - sa * p.y();
       by[u] = sa * p.x() + ca * p.y();
@@ -155,7 +164,8 @@ cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose, const
         const double checker = FilteredSquareWave(x, wx, s) * FilteredSquareWave(y, wy, s);
         const double checker_value = 0.5 * (kWhite + kBlack) + 0.5 * (kWhite - kBlack) * checker;
         const double inner = Coverage(x, wx, in_lo_x, in_hi_x) * Coverage(y, wy, in_lo_y, in_hi_y);
-        const double outer = Coverage(x, wx, out_lo_x, out_hi_x) * Coverage(y, wy, out_lo_y, out_hi_y);
+        const double outer =
+            Coverage(x, wx, out_lo_x, out_hi_x) * Coverage(y, wy, out_lo_y, out_hi_y);
         const double board_value = inner * checker_value + (1 - inner) * kWhite;
         value = outer * board_value + (1 - outer) * kFloor;
       }

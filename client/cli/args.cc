@@ -34,7 +34,8 @@ Result<Args> Args::Parse(const std::vector<std::string>& argv, const ArgSpec& sp
   for (size_t i = 0; i < argv.size(); ++i) {
     const std::string& a = argv[i];
     // "-12.5,3" is a (negative) number, not an option.
-    const bool negative_number = a.size() >= 2 && a[0] == '-' && (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.');
+    const bool negative_number = a.size() >= 2 && a[0] == '-' &&
+                                 (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.');
     if (only_positionals || a.size() < 2 || a[0] != '-' || negative_number) {
       args.positionals_.push_back(a);
       continue;
@@ -55,7 +56,8 @@ Result<Args> Args::Parse(const std::vector<std::string>& argv, const ArgSpec& sp
       args.flags_.insert(name);
     } else if (spec.value_options.count(name)) {
       if (!has_inline_value) {
-        if (i + 1 >= argv.size()) return MakeError(ErrorCode::kInvalidArgument, name + " needs a value");
+        if (i + 1 >= argv.size())
+          return MakeError(ErrorCode::kInvalidArgument, name + " needs a value");
         value = argv[++i];
       }
       args.options_.emplace(name, value);
@@ -96,7 +98,8 @@ Result<double> Args::GetDouble(const std::string& name, double fallback) const {
 }
 
 Result<double> Args::RequireDouble(const std::string& name) const {
-  if (!Get(name)) return MakeError(ErrorCode::kInvalidArgument, "missing " + name + " (see --help)");
+  if (!Get(name))
+    return MakeError(ErrorCode::kInvalidArgument, "missing " + name + " (see --help)");
   return GetDouble(name, 0);
 }
 

@@ -8,7 +8,9 @@ namespace {
 const ArgSpec kSpec{{"--board", "--box"}, {"--json"}};
 
 TEST(ArgsTest, ParsesOptionsFlagsAndNegativeNumbers) {
-  const auto args = Args::Parse({"img.png", "--board", "9x6", "--json", "-3.5,2", "--box=1,2,3,4,5", "--box", "6,7,8,9,1"}, kSpec);
+  const auto args = Args::Parse(
+      {"img.png", "--board", "9x6", "--json", "-3.5,2", "--box=1,2,3,4,5", "--box", "6,7,8,9,1"},
+      kSpec);
   ASSERT_TRUE(args.ok()) << args.error();
   EXPECT_EQ(args->positionals(), (std::vector<std::string>{"img.png", "-3.5,2"}));
   EXPECT_EQ(*args->Get("--board"), "9x6");

@@ -22,8 +22,9 @@ Result<cv::Mat> ReadGreyImage(const std::string& path) {
   }
   cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (image.empty()) {
-    return MakeError(ErrorCode::kIo, "cannot read image '" + path +
-                                         "': not an image format OpenCV reads (PNG, PGM, JPEG, TIFF, ...)");
+    return MakeError(ErrorCode::kIo,
+                     "cannot read image '" + path +
+                         "': not an image format OpenCV reads (PNG, PGM, JPEG, TIFF, ...)");
   }
   if (image.depth() != CV_8U) image.convertTo(image, CV_8U, 1.0 / 256);
   return image;

@@ -17,7 +17,8 @@ namespace {
 constexpr double kDefaultPixelSigmaPx = 0.5;
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
-constexpr const char* kCalibrateHelp = R"(Usage: monocle floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES
+constexpr const char* kCalibrateHelp =
+    R"(Usage: monocle floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES
                                 [--method full|paper] [--write] [--json]
 
 Finds a chessboard lying on the floor in IMAGE and computes the camera's pose above the
@@ -37,7 +38,8 @@ robot's X_w, eq. 10 of Xu et al.) and roll (rad, about the optical axis).
 Board axes: x_p to the right in the image, y_p away from the camera.
 )";
 
-constexpr const char* kMeasureHelp = R"(Usage: monocle floor measure --calibration CAL.pbtxt [--pixel-sigma PX] [--json] POINT...
+constexpr const char* kMeasureHelp =
+    R"(Usage: monocle floor measure --calibration CAL.pbtxt [--pixel-sigma PX] [--json] POINT...
 
 Measures points in the robot frame (metres): origin on the floor under the optical
 centre, X_w along the image's horizontal axis, Y_w forward, Z_w up.
@@ -54,7 +56,8 @@ Each result's sigma combines the calibration's covariance and the pixel noise.
 Exit status 1 when any point could not be measured.
 )";
 
-Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(const std::string& text) {
+Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(
+    const std::string& text) {
   const auto at = text.find('@');
   auto parse_pixel = [&](const std::string& part) -> std::optional<Eigen::Vector2d> {
     const auto nums = ParseNumberList(part);
@@ -69,14 +72,16 @@ Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(co
   if (at == std::string::npos) return std::make_pair(*first, std::optional<Eigen::Vector2d>());
   const auto second = parse_pixel(text.substr(at + 1));
   if (!second) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,300@640.5,800)");
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,300@640.5,800)");
   }
   return std::make_pair(*second, std::optional<Eigen::Vector2d>(*first));
 }
 
 bool InsideImage(const CameraIntrinsics& k, const Eigen::Vector2d& px) {
-  return px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= k.width_px - 0.5 && px.y() <= k.height_px - 0.5;
+  return px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= k.width_px - 0.5 &&
+         px.y() <= k.height_px - 0.5;
 }
 
 int Calibrate(const std::vector<std::string>& argv) {
@@ -84,9 +89,11 @@ int Calibrate(const std::vector<std::string>& argv) {
     std::cout << kCalibrateHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--calibration", "--board", "--square", "--method"}, {"--write", "--json"}});
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--board", "--square", "--method"}, {"--write", "--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().size() != 1) return Fail("floor calibrate takes exactly one IMAGE (see --help)", kExitUsage);
+  if (args->positionals().size() != 1)
+    return Fail("floor calibrate takes exactly one IMAGE (see --help)", kExitUsage);
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto board_text = args->Require("--board");
@@ -99,7 +106,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (method_text != "full" && method_text != "paper") {
     return Fail("--method must be full or paper, not '" + method_text + "'", kExitUsage);
   }
-  const auto method = method_text == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
+  const auto method =
+      method_text == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
 
   auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
@@ -116,10 +124,12 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (!board) return Fail(board.error(), kExitFailure);
   const auto result = CalibrateFloor(k, *board, method);
   if (!result) return Fail(result.error(), kExitFailure);
-  if (!(result->pose.height_m > 0) || !(result->pose.pitch_rad > 0 && result->pose.pitch_rad < std::numbers::pi)) {
-    return Fail("the calibration gave an impossible pose (height <= 0 or pitch outside (0, pi)); "
-                "the board is probably not on the floor in view",
-                kExitFailure);
+  if (!(result->pose.height_m > 0) ||
+      !(result->pose.pitch_rad > 0 && result->pose.pitch_rad < std::numbers::pi)) {
+    return Fail(
+        "the calibration gave an impossible pose (height <= 0 or pitch outside (0, pi)); "
+        "the board is probably not on the floor in view",
+        kExitFailure);
   }
 
   if (args->Has("--write")) {
@@ -149,10 +159,12 @@ int Calibrate(const std::vector<std::string>& argv) {
               << "height  " << result->pose.height_m << " m      ± " << sigma[0] << " m\n"
               << "pitch   " << result->pose.pitch_rad << " rad    ± " << sigma[1] << " rad  ("
               << std::setprecision(4) << result->pose.pitch_rad * kDeg << "°)\n"
-              << std::setprecision(6) << "yaw     " << result->pose.yaw_rad << " rad    ± " << sigma[2]
-              << " rad  (" << std::setprecision(4) << result->pose.yaw_rad * kDeg << "°)\n"
-              << std::setprecision(6) << "roll    " << result->pose.roll_rad << " rad    ± " << sigma[3]
-              << " rad  (" << std::setprecision(4) << result->pose.roll_rad * kDeg << "°)\n"
+              << std::setprecision(6) << "yaw     " << result->pose.yaw_rad << " rad    ± "
+              << sigma[2] << " rad  (" << std::setprecision(4) << result->pose.yaw_rad * kDeg
+              << "°)\n"
+              << std::setprecision(6) << "roll    " << result->pose.roll_rad << " rad    ± "
+              << sigma[3] << " rad  (" << std::setprecision(4) << result->pose.roll_rad * kDeg
+              << "°)\n"
               << std::setprecision(4) << "rms     " << result->rms_px << " px\n";
     if (args->Has("--write")) std::cout << "written to " << *cal_path << "\n";
   }
@@ -167,15 +179,18 @@ int Measure(const std::vector<std::string>& argv) {
   auto args = Args::Parse(argv, {{"--calibration", "--pixel-sigma", "--camera"}, {"--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->Has("--camera")) {
-    return Fail("--camera needs the monocle service, which this build does not include yet; "
-                "use --calibration CAL.pbtxt",
-                kExitUsage);
+    return Fail(
+        "--camera needs the monocle service, which this build does not include yet; "
+        "use --calibration CAL.pbtxt",
+        kExitUsage);
   }
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto pixel_sigma = args->GetDouble("--pixel-sigma", kDefaultPixelSigmaPx);
-  if (!pixel_sigma || *pixel_sigma < 0) return Fail("--pixel-sigma must be a number of pixels >= 0", kExitUsage);
-  if (args->positionals().empty()) return Fail("no POINT given (u,v or u,v@fu,fv; see --help)", kExitUsage);
+  if (!pixel_sigma || *pixel_sigma < 0)
+    return Fail("--pixel-sigma must be a number of pixels >= 0", kExitUsage);
+  if (args->positionals().empty())
+    return Fail("no POINT given (u,v or u,v@fu,fv; see --help)", kExitUsage);
   // Malformed points are a command-line error: reject them all before measuring any.
   std::vector<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> points;
   for (const auto& text : args->positionals()) {
@@ -186,8 +201,9 @@ int Measure(const std::vector<std::string>& argv) {
   const auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   if (!calibration->floor) {
-    return Fail(*cal_path + " has no floor section: run 'monocle floor calibrate ... --write' first",
-                kExitFailure);
+    return Fail(
+        *cal_path + " has no floor section: run 'monocle floor calibrate ... --write' first",
+        kExitFailure);
   }
   const auto& k = calibration->intrinsics;
   MeasurementNoise noise{calibration->floor->covariance, *pixel_sigma};
@@ -236,17 +252,75 @@ int Measure(const std::vector<std::string>& argv) {
   return any_failed ? kExitFailure : kExitOk;
 }
 
+constexpr const char* kProjectHelp =
+    R"(Usage: monocle floor project --calibration CAL.pbtxt [--json] X,Y,Z...
+
+The inverse of measure: the pixel (u, v) where the calibrated camera sees each robot-frame
+point X,Y,Z (metres; Z up from the floor). Prints "u,v" per point, or --json an array of
+{u, v} objects ({error} for a point behind the camera).
+)";
+
+int Project(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kProjectHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{"--calibration"}, {"--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  if (args->positionals().empty())
+    return Fail("no X,Y,Z point given (metres; see --help)", kExitUsage);
+  std::vector<Eigen::Vector3d> points;
+  for (const auto& text : args->positionals()) {
+    const auto v = ParseNumberList(text);
+    if (!v || v->size() != 3)
+      return Fail("point '" + text + "' is not X,Y,Z in metres", kExitUsage);
+    points.emplace_back((*v)[0], (*v)[1], (*v)[2]);
+  }
+  const auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  if (!calibration->floor) return Fail(*cal_path + " has no floor section", kExitFailure);
+  bool any_failed = false;
+  const bool json = args->Has("--json");
+  if (json) std::cout << "[";
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto px = ProjectRobotPoint(calibration->intrinsics, calibration->floor->pose, points[i]);
+    any_failed |= !px.has_value();
+    std::ostringstream os;
+    os << std::setprecision(10);
+    if (json) {
+      if (px) {
+        os << "{\"u\":" << px->x() << ",\"v\":" << px->y() << "}";
+      } else {
+        os << "{\"error\":\"point is behind the camera\"}";
+      }
+      std::cout << (i ? "," : "") << os.str();
+    } else if (px) {
+      os << std::fixed << std::setprecision(3) << px->x() << "," << px->y();
+      std::cout << os.str() << "\n";
+    } else {
+      std::cout << "error: " << args->positionals()[i] << " is behind the camera\n";
+    }
+  }
+  if (json) std::cout << "]\n";
+  return any_failed ? kExitFailure : kExitOk;
+}
+
 }  // namespace
 
 int FloorCommand(const std::vector<std::string>& args) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::cout << "Usage: monocle floor calibrate|measure ...  (monocle floor calibrate --help)\n";
+    std::cout
+        << "Usage: monocle floor calibrate|measure|project ...  (monocle floor COMMAND --help)\n";
     return args.empty() ? kExitUsage : kExitOk;
   }
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (args[0] == "calibrate") return Calibrate(rest);
   if (args[0] == "measure") return Measure(rest);
-  return Fail("unknown floor command '" + args[0] + "' (calibrate or measure)", kExitUsage);
+  if (args[0] == "project") return Project(rest);
+  return Fail("unknown floor command '" + args[0] + "' (calibrate, measure or project)",
+              kExitUsage);
 }
 
 }  // namespace monocle::cli

@@ -11,7 +11,8 @@
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kHelp = R"(Usage: monocle intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
+constexpr const char* kHelp =
+    R"(Usage: monocle intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
 
 Calibrates focal lengths (fx, fy, pixels), principal point (cx, cy, pixels) and lens
 distortion (k1 k2 p1 p2, OpenCV's model) from several images of a chessboard seen from
@@ -40,7 +41,8 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   if (!square) return Fail(square.error(), kExitUsage);
   const auto spec = ParseBoardSize(*board_text, *square);
   if (!spec) return Fail(spec.error(), kExitUsage);
-  if (args->positionals().size() < 3) return Fail("give at least 3 board images (see --help)", kExitUsage);
+  if (args->positionals().size() < 3)
+    return Fail("give at least 3 board images (see --help)", kExitUsage);
 
   std::vector<std::vector<cv::Point3f>> object_points;
   std::vector<std::vector<cv::Point2f>> image_points;
@@ -49,7 +51,8 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
     const auto image = ReadGreyImage(path);
     if (!image) return Fail(image.error(), kExitFailure);
     if (size.area() == 0) size = image->size();
-    if (image->size() != size) return Fail("image '" + path + "' differs in size from the first image", kExitFailure);
+    if (image->size() != size)
+      return Fail("image '" + path + "' differs in size from the first image", kExitFailure);
     const auto board = DetectChessboard(*image, *spec);
     if (!board) {
       std::cerr << "monocle: warning: " << path << ": " << board.error().message << "; skipped\n";
@@ -91,10 +94,10 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   cal.intrinsics_rms_px = rms;
   const auto saved = SaveCalibrationFileAtomically(*out_path, cal);
   if (!saved) return Fail(saved.error(), kExitFailure);
-  std::cout << std::setprecision(8) << "images  " << image_points.size() << "\nfx fy   " << k.fx << " "
-            << k.fy << " px\ncx cy   " << k.cx << " " << k.cy << " px\ndist    " << k.distortion[0]
-            << " " << k.distortion[1] << " " << k.distortion[2] << " " << k.distortion[3]
-            << "\nrms     " << rms << " px\nwritten to " << *out_path << "\n";
+  std::cout << std::setprecision(8) << "images  " << image_points.size() << "\nfx fy   " << k.fx
+            << " " << k.fy << " px\ncx cy   " << k.cx << " " << k.cy << " px\ndist    "
+            << k.distortion[0] << " " << k.distortion[1] << " " << k.distortion[2] << " "
+            << k.distortion[3] << "\nrms     " << rms << " px\nwritten to " << *out_path << "\n";
   return kExitOk;
 }
 

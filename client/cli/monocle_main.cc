@@ -18,6 +18,8 @@ Commands:
   floor measure --calibration CAL.pbtxt [--pixel-sigma PX] [--json] POINT...
       Robot-frame 3D points (metres) from floor pixels "u,v" or from pixels standing
       vertically above a floor pixel "u,v@fu,fv".
+  floor project --calibration CAL.pbtxt [--json] X,Y,Z...
+      The pixel where the calibrated camera sees each robot-frame point (metres).
   intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
       Focal lengths, principal point and lens distortion from several board images.
   render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png

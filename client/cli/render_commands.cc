@@ -11,7 +11,8 @@
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kHelp = R"(Usage: monocle render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
+constexpr const char* kHelp =
+    R"(Usage: monocle render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
                            [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
 
 Renders the 8-bit grey image the camera of CAL.pbtxt (intrinsics and floor section: height,
@@ -37,12 +38,13 @@ int RenderCommand(const std::vector<std::string>& argv) {
     std::cout << kHelp;
     return WantsHelp(argv) ? kExitOk : kExitUsage;
   }
-  auto args = Args::Parse({argv.begin() + 1, argv.end()},
-                          {{"--calibration", "--board", "--square", "--out", "--noise", "--seed",
-                            "--board-origin", "--box"},
-                           {}});
+  auto args =
+      Args::Parse({argv.begin() + 1, argv.end()}, {{"--calibration", "--board", "--square", "--out",
+                                                    "--noise", "--seed", "--board-origin", "--box"},
+                                                   {}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (!args->positionals().empty()) return Fail("unexpected argument '" + args->positionals()[0] + "'", kExitUsage);
+  if (!args->positionals().empty())
+    return Fail("unexpected argument '" + args->positionals()[0] + "'", kExitUsage);
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto out_path = args->Require("--out");
@@ -61,7 +63,8 @@ int RenderCommand(const std::vector<std::string>& argv) {
   const auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   if (!calibration->floor) {
-    return Fail(*cal_path + " has no floor section (height, pitch, yaw, roll) to render from", kExitFailure);
+    return Fail(*cal_path + " has no floor section (height, pitch, yaw, roll) to render from",
+                kExitFailure);
   }
   const FloorPose& pose = calibration->floor->pose;
   FloorScene scene;
@@ -73,7 +76,8 @@ int RenderCommand(const std::vector<std::string>& argv) {
   scene.board_origin_robot_m = CenteredBoardOrigin(pose, spec->cols, spec->rows, spec->square_m);
   if (const auto origin = args->Get("--board-origin")) {
     const auto xy = ParseNumberList(*origin);
-    if (!xy || xy->size() != 2) return Fail("--board-origin '" + *origin + "' is not X,Y in metres", kExitUsage);
+    if (!xy || xy->size() != 2)
+      return Fail("--board-origin '" + *origin + "' is not X,Y in metres", kExitUsage);
     scene.board_origin_robot_m = Eigen::Vector2d((*xy)[0], (*xy)[1]);
   }
   for (const auto& text : args->GetAll("--box")) {
@@ -90,7 +94,9 @@ int RenderCommand(const std::vector<std::string>& argv) {
   } catch (const cv::Exception& e) {
     return Fail("cannot write '" + *out_path + "': " + e.what(), kExitFailure);
   }
-  if (!written) return Fail("cannot write '" + *out_path + "' (unknown extension or unwritable folder)", kExitFailure);
+  if (!written)
+    return Fail("cannot write '" + *out_path + "' (unknown extension or unwritable folder)",
+                kExitFailure);
   return kExitOk;
 }
 

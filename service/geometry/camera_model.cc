@@ -13,8 +13,8 @@ bool CameraIntrinsics::HasDistortion() const {
 }
 
 std::ostream& operator<<(std::ostream& os, const CameraIntrinsics& k) {
-  os << "CameraIntrinsics{" << k.width_px << "x" << k.height_px << " fx=" << k.fx
-     << " fy=" << k.fy << " cx=" << k.cx << " cy=" << k.cy << " d=[";
+  os << "CameraIntrinsics{" << k.width_px << "x" << k.height_px << " fx=" << k.fx << " fy=" << k.fy
+     << " cx=" << k.cx << " cy=" << k.cy << " d=[";
   for (size_t i = 0; i < k.distortion.size(); ++i) os << (i ? " " : "") << k.distortion[i];
   return os << "]}";
 }

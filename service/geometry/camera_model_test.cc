@@ -61,8 +61,9 @@ TEST(CameraModelTest, UndistortionAgreesWithOpenCvAndIsTighter) {
   const std::vector<cv::Point2d> corners{{0, 0}, {1279, 0}, {0, 1023}, {1279, 1023}, {640, 512}};
   std::vector<cv::Point2d> cv_default, cv_iterated;
   cv::undistortPoints(corners, cv_default, camera_matrix, dist);
-  cv::undistortPoints(corners, cv_iterated, camera_matrix, dist, cv::noArray(), cv::noArray(),
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-12));
+  cv::undistortPoints(
+      corners, cv_iterated, camera_matrix, dist, cv::noArray(), cv::noArray(),
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-12));
   double default_error = 0;
   for (size_t i = 0; i < corners.size(); ++i) {
     const Eigen::Vector2d px(corners[i].x, corners[i].y);
@@ -70,7 +71,8 @@ TEST(CameraModelTest, UndistortionAgreesWithOpenCvAndIsTighter) {
     ASSERT_TRUE(n.has_value());
     EXPECT_NEAR(n->x(), cv_iterated[i].x, 1e-6);
     EXPECT_NEAR(n->y(), cv_iterated[i].y, 1e-6);
-    default_error = std::max(default_error,
+    default_error = std::max(
+        default_error,
         (NormalizedToPixel(k, Eigen::Vector2d(cv_default[i].x, cv_default[i].y)) - px).norm());
     EXPECT_LT((NormalizedToPixel(k, *n) - px).norm(), 1e-9);
   }
@@ -88,7 +90,8 @@ TEST(CameraModelTest, UndistortJacobianMatchesFiniteDifferences) {
   for (int a = 0; a < 2; ++a) {
     Eigen::Vector2d d = Eigen::Vector2d::Zero();
     d[a] = h;
-    const Eigen::Vector2d numeric = (*PixelToNormalized(k, px + d) - *PixelToNormalized(k, px - d)) / (2 * h);
+    const Eigen::Vector2d numeric =
+        (*PixelToNormalized(k, px + d) - *PixelToNormalized(k, px - d)) / (2 * h);
     EXPECT_NEAR((j.col(a) - numeric).norm(), 0, 1e-10);
   }
 }

@@ -132,10 +132,11 @@ Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObs
   // A robot's floor camera is mounted roughly upright; a board that needs the camera
   // turned past 45 degrees about its axis means an upside-down mount or a wrong image.
   if (std::abs(q[2]) > std::numbers::pi / 4) {
-    return MakeError(ErrorCode::kDegenerate,
-                     "the board implies a camera roll of " + std::to_string(q[2] * 180 / std::numbers::pi) +
-                         " degrees (beyond +-45): is the camera mounted upside down? Rotate its images "
-                         "by 180 degrees first");
+    return MakeError(
+        ErrorCode::kDegenerate,
+        "the board implies a camera roll of " + std::to_string(q[2] * 180 / std::numbers::pi) +
+            " degrees (beyond +-45): is the camera mounted upside down? Rotate its images "
+            "by 180 degrees first");
   }
   const Eigen::MatrixXd cov6 = CovarianceFromJacobian(summary.jacobian, summary.residuals);
   if (cov6.size() == 0) {

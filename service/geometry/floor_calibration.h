@@ -35,7 +35,7 @@ const char* ToString(FloorCalibrationMethod method);
 
 struct FloorCalibration {
   FloorPose pose;
-  FloorCovariance covariance = FloorCovariance::Zero();  // (h, pitch, yaw, roll)
+  FloorCovariance covariance = FloorCovariance::Zero();            // (h, pitch, yaw, roll)
   Eigen::Vector2d board_origin_robot_m = Eigen::Vector2d::Zero();  // (t_x, t_y) of eq. 10
   double rms_px = 0;  // RMS distance between observed and reprojected corners
   FloorCalibrationMethod method = FloorCalibrationMethod::kFull;

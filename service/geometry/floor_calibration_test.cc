@@ -19,7 +19,8 @@ Eigen::Vector2d CenteredOrigin(const FloorPose& pose, int cols, int rows, double
   const double t = pose.height_m / -axis.z();
   const Eigen::Vector2d center = t * axis.head<2>();
   return center - BoardToRobot(pose.yaw_rad, Eigen::Vector2d::Zero(),
-                               Eigen::Vector2d((cols - 1) * square / 2, (rows - 1) * square / 2)).head<2>();
+                               Eigen::Vector2d((cols - 1) * square / 2, (rows - 1) * square / 2))
+                      .head<2>();
 }
 
 void ExpectPoseNear(const FloorPose& a, const FloorPose& b, double tol) {

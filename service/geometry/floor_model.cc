@@ -37,19 +37,21 @@ std::optional<FloorSolution> SolveFloor(double x1, double y1, double h, double t
   const double dy_dy1 = -h / (descent * descent);
   const double dy_dh = forward / descent;
   const double dy_dtheta = -h * (1 + y1 * y1) / (descent * descent);
-  out.jacobian << z_c, x1 * s * dy_dy1, x1 * (s * dy_dh - c), x1 * (s * dy_dtheta + out.y_w * c + h * s),
-      0, dy_dy1, dy_dh, dy_dtheta;
+  out.jacobian << z_c, x1 * s * dy_dy1, x1 * (s * dy_dh - c),
+      x1 * (s * dy_dtheta + out.y_w * c + h * s), 0, dy_dy1, dy_dh, dy_dtheta;
   return out;
 }
 
 Error AboveHorizon(const Eigen::Vector2d& px) {
-  return MakeError(ErrorCode::kOutOfRange,
-                   "pixel " + PixelText(px) + " is at or above the horizon: its ray never meets the floor");
+  return MakeError(
+      ErrorCode::kOutOfRange,
+      "pixel " + PixelText(px) + " is at or above the horizon: its ray never meets the floor");
 }
 
 Error NotInvertible(const Eigen::Vector2d& px) {
-  return MakeError(ErrorCode::kOutOfRange,
-                   "pixel " + PixelText(px) + " lies where the lens distortion model cannot be inverted");
+  return MakeError(
+      ErrorCode::kOutOfRange,
+      "pixel " + PixelText(px) + " lies where the lens distortion model cannot be inverted");
 }
 
 }  // namespace
@@ -174,8 +176,9 @@ Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const F
   // Eq. (7) needs the top pixel's ray to move forward (towards Y_w) as well; a ray in the
   // X_w-Z_w plane cannot tell heights along the vertical line.
   if (std::abs(forward_t) / std::sqrt(1 + y1t * y1t) < 1e-6) {
-    return MakeError(ErrorCode::kDegenerate, "pixel " + PixelText(top_px) +
-                                                 " looks straight down the vertical line: its height is undefined");
+    return MakeError(ErrorCode::kDegenerate,
+                     "pixel " + PixelText(top_px) +
+                         " looks straight down the vertical line: its height is undefined");
   }
   const double y_w = sol->y_w;
   // Eq. (7), rearranged: z_w = h - descent_t * y_w / forward_t.

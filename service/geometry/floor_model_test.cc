@@ -14,7 +14,8 @@ using testing::PaperCamera;
 using testing::RandomFloorPose;
 
 // A random floor point the camera sees, in the robot frame.
-std::optional<Eigen::Vector3d> RandomVisibleFloorPoint(std::mt19937_64& rng, const CameraIntrinsics& k,
+std::optional<Eigen::Vector3d> RandomVisibleFloorPoint(std::mt19937_64& rng,
+                                                       const CameraIntrinsics& k,
                                                        const FloorPose& pose) {
   std::uniform_real_distribution<double> u(0, k.width_px - 1), v(0, k.height_px - 1);
   for (int attempt = 0; attempt < 100; ++attempt) {
@@ -72,7 +73,8 @@ TEST(FloorModelTest, PaperEquationFiveAsPrintedAgreesWithoutRoll) {
   CameraIntrinsics k = PaperCamera();
   k.distortion = {};
   const double h = pose.height_m, t = pose.pitch_rad;
-  for (const Eigen::Vector2d& px : {Eigen::Vector2d(100, 900), Eigen::Vector2d(640, 700), Eigen::Vector2d(1200, 1000)}) {
+  for (const Eigen::Vector2d& px :
+       {Eigen::Vector2d(100, 900), Eigen::Vector2d(640, 700), Eigen::Vector2d(1200, 1000)}) {
     const double x1 = (px.x() - k.cx) / k.fx, y1 = (px.y() - k.cy) / k.fy;
     const double y_w = (h * std::sin(t) + y1 * h * std::cos(t)) / (y1 * std::sin(t) - std::cos(t));
     const double x_w = x1 * y_w * std::sin(t) - x1 * h * std::cos(t);
@@ -112,9 +114,11 @@ TEST(FloorModelTest, UncertaintyMatchesFiniteDifferences) {
     double* fields_minus[4] = {&minus.height_m, &minus.pitch_rad, &minus.yaw_rad, &minus.roll_rad};
     *fields_plus[param] += step;
     *fields_minus[param] -= step;
-    const Eigen::Vector3d derivative = (measure(plus, floor_px, top_px) - measure(minus, floor_px, top_px)) / (2 * step);
+    const Eigen::Vector3d derivative =
+        (measure(plus, floor_px, top_px) - measure(minus, floor_px, top_px)) / (2 * step);
     const Eigen::Matrix3d expected = derivative * derivative.transpose();
-    EXPECT_LT((m->covariance - expected).norm(), 1e-6 * std::max(1.0, expected.norm())) << "param " << param;
+    EXPECT_LT((m->covariance - expected).norm(), 1e-6 * std::max(1.0, expected.norm()))
+        << "param " << param;
   }
   MeasurementNoise pixel_noise;
   pixel_noise.pixel_sigma_px = 1.0;
@@ -124,7 +128,9 @@ TEST(FloorModelTest, UncertaintyMatchesFiniteDifferences) {
   for (int a = 0; a < 4; ++a) {
     Eigen::Vector2d df = Eigen::Vector2d::Zero(), dt = Eigen::Vector2d::Zero();
     (a < 2 ? df : dt)[a % 2] = step;
-    const Eigen::Vector3d d = (measure(pose, floor_px + df, top_px + dt) - measure(pose, floor_px - df, top_px - dt)) / (2 * step);
+    const Eigen::Vector3d d =
+        (measure(pose, floor_px + df, top_px + dt) - measure(pose, floor_px - df, top_px - dt)) /
+        (2 * step);
     expected += d * d.transpose();
   }
   EXPECT_LT((m->covariance - expected).norm(), 1e-6 * expected.norm());

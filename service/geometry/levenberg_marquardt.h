@@ -24,7 +24,7 @@ struct LevenbergMarquardtSummary {
   int iterations = 0;
   double initial_cost = 0;  // 0.5 * |r|^2
   double final_cost = 0;
-  Eigen::MatrixXd jacobian;  // at the solution, numeric (central differences)
+  Eigen::MatrixXd jacobian;   // at the solution, numeric (central differences)
   Eigen::VectorXd residuals;  // at the solution
 };
 

@@ -1,9 +1,9 @@
 #include "service/io/calibration_file.h"
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -23,8 +23,8 @@ class CollectFirstError : public google::protobuf::io::ErrorCollector {
                 const std::string& message) override {
     if (text_.empty()) {
       // The parser counts from 0.
-      text_ = "line " + std::to_string(line + 1) + ", column " + std::to_string(column + 1) +
-              ": " + message;
+      text_ = "line " + std::to_string(line + 1) + ", column " + std::to_string(column + 1) + ": " +
+              message;
     }
   }
   void AddWarning(int, google::protobuf::io::ColumnNumber, const std::string&) override {}
@@ -54,25 +54,34 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
   const auto& in = msg.intrinsics();
   CameraCalibration out;
   auto& k = out.intrinsics;
-  if (in.width() == 0 || in.width() > 65535) return Invalid(source, "intrinsics.width", "must be 1..65535 pixels");
-  if (in.height() == 0 || in.height() > 65535) return Invalid(source, "intrinsics.height", "must be 1..65535 pixels");
+  if (in.width() == 0 || in.width() > 65535)
+    return Invalid(source, "intrinsics.width", "must be 1..65535 pixels");
+  if (in.height() == 0 || in.height() > 65535)
+    return Invalid(source, "intrinsics.height", "must be 1..65535 pixels");
   k.width_px = static_cast<int>(in.width());
   k.height_px = static_cast<int>(in.height());
-  if (!(in.fx() > 0) || !Finite(in.fx())) return Invalid(source, "intrinsics.fx", "must be a positive focal length in pixels");
-  if (!(in.fy() > 0) || !Finite(in.fy())) return Invalid(source, "intrinsics.fy", "must be a positive focal length in pixels");
-  if (!Finite(in.cx()) || in.cx() < 0 || in.cx() > k.width_px) return Invalid(source, "intrinsics.cx", "must lie inside the image (0..width pixels)");
-  if (!Finite(in.cy()) || in.cy() < 0 || in.cy() > k.height_px) return Invalid(source, "intrinsics.cy", "must lie inside the image (0..height pixels)");
+  if (!(in.fx() > 0) || !Finite(in.fx()))
+    return Invalid(source, "intrinsics.fx", "must be a positive focal length in pixels");
+  if (!(in.fy() > 0) || !Finite(in.fy()))
+    return Invalid(source, "intrinsics.fy", "must be a positive focal length in pixels");
+  if (!Finite(in.cx()) || in.cx() < 0 || in.cx() > k.width_px)
+    return Invalid(source, "intrinsics.cx", "must lie inside the image (0..width pixels)");
+  if (!Finite(in.cy()) || in.cy() < 0 || in.cy() > k.height_px)
+    return Invalid(source, "intrinsics.cy", "must lie inside the image (0..height pixels)");
   k.fx = in.fx();
   k.fy = in.fy();
   k.cx = in.cx();
   k.cy = in.cy();
   const int nd = in.distortion_size();
   if (nd != 0 && nd != 4 && nd != 5 && nd != 8) {
-    return Invalid(source, "intrinsics.distortion", "must have 0, 4 (k1 k2 p1 p2), 5 (+k3) or 8 (+k3..k6) values, not " + std::to_string(nd));
+    return Invalid(
+        source, "intrinsics.distortion",
+        "must have 0, 4 (k1 k2 p1 p2), 5 (+k3) or 8 (+k3..k6) values, not " + std::to_string(nd));
   }
   for (int i = 0; i < nd; ++i) {
     if (!Finite(in.distortion(i)) || std::abs(in.distortion(i)) > 1e4) {
-      return Invalid(source, "intrinsics.distortion", "value " + std::to_string(i + 1) + " is not a finite coefficient");
+      return Invalid(source, "intrinsics.distortion",
+                     "value " + std::to_string(i + 1) + " is not a finite coefficient");
     }
     k.distortion[i] = in.distortion(i);
   }
@@ -82,34 +91,45 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
     const auto& f = msg.floor();
     FloorCalibration fc;
     if (!f.has_height()) return Invalid(source, "floor.height", "is missing");
-    if (!(f.height() > 0) || !Finite(f.height()) || f.height() > 1000) return Invalid(source, "floor.height", "must be a positive height in metres");
+    if (!(f.height() > 0) || !Finite(f.height()) || f.height() > 1000)
+      return Invalid(source, "floor.height", "must be a positive height in metres");
     if (!f.has_pitch()) return Invalid(source, "floor.pitch", "is missing");
     if (!Finite(f.pitch()) || f.pitch() <= 0 || f.pitch() >= std::numbers::pi) {
-      return Invalid(source, "floor.pitch", "must be an angle in (0, pi) radians between the floor's up normal and the optical axis");
+      return Invalid(
+          source, "floor.pitch",
+          "must be an angle in (0, pi) radians between the floor's up normal and the optical axis");
     }
-    if (!Finite(f.yaw()) || std::abs(f.yaw()) > std::numbers::pi) return Invalid(source, "floor.yaw", "must be an angle in [-pi, pi] radians");
-    if (!Finite(f.roll()) || std::abs(f.roll()) > std::numbers::pi) return Invalid(source, "floor.roll", "must be an angle in [-pi, pi] radians");
+    if (!Finite(f.yaw()) || std::abs(f.yaw()) > std::numbers::pi)
+      return Invalid(source, "floor.yaw", "must be an angle in [-pi, pi] radians");
+    if (!Finite(f.roll()) || std::abs(f.roll()) > std::numbers::pi)
+      return Invalid(source, "floor.roll", "must be an angle in [-pi, pi] radians");
     fc.pose = FloorPose{f.height(), f.pitch(), f.yaw(), f.roll()};
     if (f.covariance_size() != 0 && f.covariance_size() != 16) {
-      return Invalid(source, "floor.covariance", "must have 16 values (4x4, row-major), not " + std::to_string(f.covariance_size()));
+      return Invalid(
+          source, "floor.covariance",
+          "must have 16 values (4x4, row-major), not " + std::to_string(f.covariance_size()));
     }
     for (int i = 0; i < f.covariance_size(); ++i) {
-      if (!Finite(f.covariance(i))) return Invalid(source, "floor.covariance", "has a value that is not finite");
+      if (!Finite(f.covariance(i)))
+        return Invalid(source, "floor.covariance", "has a value that is not finite");
       fc.covariance(i / 4, i % 4) = f.covariance(i);
     }
     for (int i = 0; i < 4; ++i) {
-      if (fc.covariance(i, i) < 0) return Invalid(source, "floor.covariance", "has a negative variance on its diagonal");
+      if (fc.covariance(i, i) < 0)
+        return Invalid(source, "floor.covariance", "has a negative variance on its diagonal");
     }
     fc.rms_px = f.has_rms_px() ? f.rms_px() : 0.0;
     if (f.has_method() && f.method() != "full" && f.method() != "paper") {
       return Invalid(source, "floor.method", "must be \"full\" or \"paper\"");
     }
-    fc.method = f.method() == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
+    fc.method =
+        f.method() == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
     out.floor = fc;
   }
   if (msg.has_corner() && msg.corner().has_ceiling_distance()) {
     const double z = msg.corner().ceiling_distance();
-    if (!(z > 0) || !Finite(z) || z > 1000) return Invalid(source, "corner.ceiling_distance", "must be a positive distance in metres");
+    if (!(z > 0) || !Finite(z) || z > 1000)
+      return Invalid(source, "corner.ceiling_distance", "must be a positive distance in metres");
     out.ceiling_distance_m = z;
   }
   return out;
@@ -118,7 +138,8 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
 Result<CameraCalibration> LoadCalibrationFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) {
-    return MakeError(ErrorCode::kNotFound, "cannot read calibration file '" + path + "': " + std::strerror(errno));
+    return MakeError(ErrorCode::kNotFound,
+                     "cannot read calibration file '" + path + "': " + std::strerror(errno));
   }
   std::stringstream buffer;
   buffer << in.rdbuf();
@@ -165,7 +186,8 @@ Status WriteFileAtomically(const std::string& path, const std::string& contents)
   std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
   const int fd = mkstemp(tmp.data());
   if (fd < 0) {
-    return MakeError(ErrorCode::kIo, "cannot create a temporary file next to '" + path + "': " + std::strerror(errno));
+    return MakeError(ErrorCode::kIo, "cannot create a temporary file next to '" + path +
+                                         "': " + std::strerror(errno));
   }
   size_t written = 0;
   while (written < contents.size()) {

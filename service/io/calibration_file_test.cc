@@ -9,7 +9,8 @@
 namespace monocle {
 namespace {
 
-constexpr const char* kIssueExample = R"(intrinsics { width: 1280 height: 1024 fx: 1624.34 fy: 1623.04 cx: 634.77 cy: 499.02
+constexpr const char* kIssueExample =
+    R"(intrinsics { width: 1280 height: 1024 fx: 1624.34 fy: 1623.04 cx: 634.77 cy: 499.02
              distortion: [-0.07021, 0.07348, -0.00112, 0.00267] }
 floor { height: 1.013 pitch: 1.8354 yaw: -0.0119 roll: 0 }
 )";
@@ -29,7 +30,8 @@ TEST(CalibrationFileTest, ParsesTheDocumentedExample) {
 }
 
 TEST(CalibrationFileTest, FloorSectionIsOptional) {
-  const auto cal = ParseCalibration("intrinsics { width: 640 height: 480 fx: 500 fy: 500 cx: 320 cy: 240 }", "f");
+  const auto cal = ParseCalibration(
+      "intrinsics { width: 640 height: 480 fx: 500 fy: 500 cx: 320 cy: 240 }", "f");
   ASSERT_TRUE(cal.ok()) << cal.error();
   EXPECT_FALSE(cal->floor.has_value());
 }
@@ -44,7 +46,8 @@ class BrokenCalibrationTest : public ::testing::TestWithParam<BadCase> {};
 TEST_P(BrokenCalibrationTest, IsRejectedNamingTheProblem) {
   const auto cal = ParseCalibration(GetParam().text, "cal.pbtxt");
   ASSERT_FALSE(cal.ok());
-  EXPECT_NE(cal.error().message.find(GetParam().expected_in_message), std::string::npos) << cal.error();
+  EXPECT_NE(cal.error().message.find(GetParam().expected_in_message), std::string::npos)
+      << cal.error();
   EXPECT_NE(cal.error().message.find("cal.pbtxt"), std::string::npos) << cal.error();
 }
 
@@ -52,26 +55,42 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, BrokenCalibrationTest,
     ::testing::Values(
         BadCase{"floor { height: 1 pitch: 1.8 }", "'intrinsics' is missing"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 focal: 3 }", "no field named \"focal\""},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: 1 pitch: 1.8 tilt: 0 }",
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 focal: 3 }",
+                "no field named \"focal\""},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: "
+                "1 pitch: 1.8 tilt: 0 }",
                 "line 2"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: -1 pitch: 1.8 }", "'floor.height'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: 1 pitch: 4 }", "'floor.pitch'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { pitch: 1.8 }", "'floor.height' is missing"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 0 fy: 1 cx: 1 cy: 1 }", "'intrinsics.fx'"},
-        BadCase{"intrinsics { width: 0 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }", "'intrinsics.width'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 2000 }", "'intrinsics.cy'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 distortion: [1, 2, 3] }",
-                "'intrinsics.distortion'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: nan fy: 1 cx: 1 cy: 1 }", "'intrinsics.fx'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\ncorner { ceiling_distance: -2 }",
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: "
+                "-1 pitch: 1.8 }",
+                "'floor.height'"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: "
+                "1 pitch: 4 }",
+                "'floor.pitch'"},
+        BadCase{
+            "intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { pitch: 1.8 }",
+            "'floor.height' is missing"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 0 fy: 1 cx: 1 cy: 1 }",
+                "'intrinsics.fx'"},
+        BadCase{"intrinsics { width: 0 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }",
+                "'intrinsics.width'"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 2000 }",
+                "'intrinsics.cy'"},
+        BadCase{
+            "intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 distortion: [1, 2, 3] }",
+            "'intrinsics.distortion'"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: nan fy: 1 cx: 1 cy: 1 }",
+                "'intrinsics.fx'"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\ncorner { "
+                "ceiling_distance: -2 }",
                 "'corner.ceiling_distance'"},
-        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: 1 pitch: 1.8 covariance: [1, 2] }",
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: "
+                "1 pitch: 1.8 covariance: [1, 2] }",
                 "'floor.covariance'"},
         BadCase{"intrinsics { width: 1280", "line 1"}));
 
 TEST(CalibrationFileTest, SaveThenLoadRoundTripsAndLeavesNoTemporaryFile) {
-  const auto dir = std::filesystem::temp_directory_path() / ("monocle_cal_test_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("monocle_cal_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "cal.pbtxt").string();
   CameraCalibration cal = *ParseCalibration(kIssueExample, "example");

@@ -42,7 +42,9 @@ Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& 
     if (scale < 1.0) cv::resize(grey, scaled, cv::Size(), scale, scale, cv::INTER_AREA);
     if (cv::findChessboardCornersSB(scaled, cv::Size(spec.cols, spec.rows), corners, 0)) {
       // INTER_AREA maps pixel centres as (x + 0.5) * scale - 0.5.
-      for (auto& c : corners) c = (c + cv::Point2f(0.5f, 0.5f)) * static_cast<float>(1.0 / scale) - cv::Point2f(0.5f, 0.5f);
+      for (auto& c : corners)
+        c = (c + cv::Point2f(0.5f, 0.5f)) * static_cast<float>(1.0 / scale) -
+            cv::Point2f(0.5f, 0.5f);
       found = true;
       break;
     }
@@ -58,8 +60,10 @@ Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& 
   for (int j = 0; j < spec.rows; ++j) {
     for (int i = 0; i < spec.cols; ++i) {
       const cv::Point2f p = corners[j * spec.cols + i];
-      if (i + 1 < spec.cols) min_spacing = std::min<double>(min_spacing, cv::norm(p - corners[j * spec.cols + i + 1]));
-      if (j + 1 < spec.rows) min_spacing = std::min<double>(min_spacing, cv::norm(p - corners[(j + 1) * spec.cols + i]));
+      if (i + 1 < spec.cols)
+        min_spacing = std::min<double>(min_spacing, cv::norm(p - corners[j * spec.cols + i + 1]));
+      if (j + 1 < spec.rows)
+        min_spacing = std::min<double>(min_spacing, cv::norm(p - corners[(j + 1) * spec.cols + i]));
     }
   }
   const int half_window = std::clamp(static_cast<int>(min_spacing * 0.4), 2, 11);

@@ -29,7 +29,8 @@ TEST_P(ChessboardTest, FindsRenderedCornersInBoardOrder) {
   scene.board_origin_robot_m = CenteredBoardOrigin(c.pose, c.cols, c.rows, scene.square_m);
   scene.noise_sigma = 2;
   const cv::Mat image = RenderFloorScene(k, c.pose, scene);
-  const auto truth = ProjectBoard(k, c.pose, scene.board_origin_robot_m, c.cols, c.rows, scene.square_m);
+  const auto truth =
+      ProjectBoard(k, c.pose, scene.board_origin_robot_m, c.cols, c.rows, scene.square_m);
   ASSERT_TRUE(truth.ok());
 
   const auto found = DetectChessboard(image, BoardSpec{c.cols, c.rows, scene.square_m});

@@ -39,7 +39,8 @@ FloorPose SceneTruth(std::mt19937_64& rng) {
 }
 
 // Floor points the camera sees out to 4 m, and box points above them.
-SceneResult Evaluate(const CameraIntrinsics& k, const FloorPose& truth, const FloorCalibration& cal) {
+SceneResult Evaluate(const CameraIntrinsics& k, const FloorPose& truth,
+                     const FloorCalibration& cal) {
   SceneResult r{};
   r.h_rel_error = std::abs(cal.pose.height_m - truth.height_m) / truth.height_m;
   r.pitch_error_deg = std::abs(cal.pose.pitch_rad - truth.pitch_rad) * 180 / std::numbers::pi;
@@ -50,11 +51,14 @@ SceneResult Evaluate(const CameraIntrinsics& k, const FloorPose& truth, const Fl
       const Eigen::Vector3d p(x, y, 0);
       if (p.norm() > 4.0) continue;
       const auto px = ProjectRobotPoint(k, truth, p);
-      if (!px || px->x() < 0 || px->y() < 0 || px->x() > k.width_px - 1 || px->y() > k.height_px - 1) continue;
+      if (!px || px->x() < 0 || px->y() < 0 || px->x() > k.width_px - 1 ||
+          px->y() > k.height_px - 1)
+        continue;
       const auto m = MeasureFloorPoint(k, cal.pose, {}, *px);
       if (!m) continue;
       ++floor_points;
-      r.worst_floor_rel_error = std::max(r.worst_floor_rel_error, (m->p_robot_m - p).norm() / p.norm());
+      r.worst_floor_rel_error =
+          std::max(r.worst_floor_rel_error, (m->p_robot_m - p).norm() / p.norm());
       for (double z : {0.2, 0.4, 0.6}) {
         const Eigen::Vector3d top(x, y, z);
         const auto top_px = ProjectRobotPoint(k, truth, top);
@@ -62,7 +66,8 @@ SceneResult Evaluate(const CameraIntrinsics& k, const FloorPose& truth, const Fl
         const auto mz = MeasureVerticalPoint(k, cal.pose, {}, *px, *top_px);
         if (!mz) continue;
         ++height_points;
-        r.worst_height_rel_error = std::max(r.worst_height_rel_error, std::abs(mz->p_robot_m.z() - z) / z);
+        r.worst_height_rel_error =
+            std::max(r.worst_height_rel_error, std::abs(mz->p_robot_m.z() - z) / z);
       }
     }
   }
@@ -97,7 +102,8 @@ TEST(FloorAccuracyTest, RenderedBoardsWithNoise) {
     // Fairer to the paper: the same scene with the camera's roll at exactly 0.
     FloorPose level = truth;
     level.roll_rad = 0;
-    const auto level_board = DetectChessboard(RenderFloorScene(k, level, scene), BoardSpec{kCols, kRows, kSquare});
+    const auto level_board =
+        DetectChessboard(RenderFloorScene(k, level, scene), BoardSpec{kCols, kRows, kSquare});
     ASSERT_TRUE(level_board.ok()) << level_board.error();
     const auto pl = CalibrateFloor(k, *level_board, FloorCalibrationMethod::kPaper);
     ASSERT_TRUE(pl.ok()) << pl.error();

@@ -1,12 +1,12 @@
 // Runs the real `monocle` binary in a child process and captures what a user would see.
 #pragma once
 
+#include <sys/wait.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace monocle::testing {
 

@@ -34,9 +34,10 @@ class FloorCliTest : public ::testing::Test {
     CameraCalibration intrinsics_only;
     intrinsics_only.intrinsics = truth.intrinsics;
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "cal.pbtxt", intrinsics_only).ok());
-    const auto r = RunMonocle(dir_, "render floor --calibration " + dir_ / "truth.pbtxt" +
-                                        " --board 11x8 --square 0.05 --noise 2 --box 0.4,2.4,0.3,0.3,0.5 --out " +
-                                        dir_ / "board.png");
+    const auto r = RunMonocle(
+        dir_, "render floor --calibration " + dir_ / "truth.pbtxt" +
+                  " --board 11x8 --square 0.05 --noise 2 --box 0.4,2.4,0.3,0.3,0.5 --out " +
+                  dir_ / "board.png");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
 
@@ -44,8 +45,9 @@ class FloorCliTest : public ::testing::Test {
 };
 
 TEST_F(FloorCliTest, CalibrateWritesTheFileAndMeasureReadsIt) {
-  const auto cal = RunMonocle(dir_, "floor calibrate " + dir_ / "board.png" + " --calibration " +
-                                        dir_ / "cal.pbtxt" + " --board 11x8 --square 0.05 --write --json");
+  const auto cal =
+      RunMonocle(dir_, "floor calibrate " + dir_ / "board.png" + " --calibration " +
+                           dir_ / "cal.pbtxt" + " --board 11x8 --square 0.05 --write --json");
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   proto::FloorCalibrationOutput out;
   ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(cal.out, &out).ok()) << cal.out;
@@ -68,8 +70,9 @@ TEST_F(FloorCliTest, CalibrateWritesTheFileAndMeasureReadsIt) {
   const auto t = *ProjectRobotPoint(k, kTruth, top_point);
   std::ostringstream args;
   args.precision(10);
-  args << "floor measure --calibration " << dir_ / "cal.pbtxt" << " --json " << f.x() << "," << f.y() << " "
-       << t.x() << "," << t.y() << "@" << f.x() << "," << f.y();
+  args << "floor measure --calibration " << dir_ / "cal.pbtxt"
+       << " --json " << f.x() << "," << f.y() << " " << t.x() << "," << t.y() << "@" << f.x() << ","
+       << f.y();
   const ProcessResult m = RunMonocle(dir_, args.str());
   EXPECT_EQ(m.exit_code, 0) << m.err;
   google::protobuf::ListValue list;
@@ -91,7 +94,8 @@ TEST_F(FloorCliTest, PointAboveTheHorizonIsAnErrorEntryAndFailsTheCommand) {
   level.floor = FloorCalibration{};
   level.floor->pose = FloorPose{1.0, Deg(97), 0, 0};
   ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "level.pbtxt", level).ok());
-  const ProcessResult m = RunMonocle(dir_, "floor measure --calibration " + dir_ / "level.pbtxt" + " --json 640,900 640,2");
+  const ProcessResult m = RunMonocle(
+      dir_, "floor measure --calibration " + dir_ / "level.pbtxt" + " --json 640,900 640,2");
   EXPECT_EQ(m.exit_code, 1);
   google::protobuf::ListValue list;
   ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(m.out, &list).ok()) << m.out;
@@ -105,7 +109,8 @@ TEST_F(FloorCliTest, PointAboveTheHorizonIsAnErrorEntryAndFailsTheCommand) {
 
 TEST_F(FloorCliTest, PaperMethodRunsAndReportsRollZero) {
   const auto cal = RunMonocle(dir_, "floor calibrate " + dir_ / "board.png" + " --calibration " +
-                                        dir_ / "cal.pbtxt" + " --board 11x8 --square 0.05 --method paper --json");
+                                        dir_ / "cal.pbtxt" +
+                                        " --board 11x8 --square 0.05 --method paper --json");
   ASSERT_EQ(cal.exit_code, 0) << cal.err;
   proto::FloorCalibrationOutput out;
   ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(cal.out, &out).ok()) << cal.out;
@@ -131,18 +136,23 @@ TEST_P(FloorCliBadInputTest, FailsClearlyAndWritesNothing) {
   cv::rotate(board, upside_down, cv::ROTATE_180);
   cv::imwrite(dir_ / "upside_down.png", upside_down);
   { std::ofstream(dir_ / "garbage.png") << "not an image"; }
-  { std::ofstream(dir_ / "broken.pbtxt") << "intrinsics { width: 1280 height: 1024\n fx: 1600 fy: 1600 cx: 640 cy: 512 focal: 3 }\n"; }
+  {
+    std::ofstream(dir_ / "broken.pbtxt")
+        << "intrinsics { width: 1280 height: 1024\n fx: 1600 fy: 1600 cx: 640 cy: 512 focal: 3 }\n";
+  }
   const std::string before = ReadFile(dir_ / "cal.pbtxt");
 
   std::string args = GetParam().args;
-  for (size_t pos; (pos = args.find("{dir}")) != std::string::npos;) args.replace(pos, 5, dir_.path().string());
+  for (size_t pos; (pos = args.find("{dir}")) != std::string::npos;)
+    args.replace(pos, 5, dir_.path().string());
   const ProcessResult r = RunMonocle(dir_, args);
   EXPECT_EQ(r.exit_code, GetParam().exit_code) << r.err;
   EXPECT_NE(r.err.find(GetParam().message), std::string::npos) << r.err;
   EXPECT_EQ(ReadFile(dir_ / "cal.pbtxt"), before);
 }
 
-const std::string kCalibrate = "floor calibrate --calibration {dir}/cal.pbtxt --board 11x8 --square 0.05 --write ";
+const std::string kCalibrate =
+    "floor calibrate --calibration {dir}/cal.pbtxt --board 11x8 --square 0.05 --write ";
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, FloorCliBadInputTest,
@@ -150,26 +160,44 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"MissingImage", kCalibrate + "{dir}/nope.png", 1, "no such file"},
         BadInput{"UnreadableImage", kCalibrate + "{dir}/garbage.png", 1, "not an image format"},
         BadInput{"NoBoard", kCalibrate + "{dir}/blank.png", 1, "no 11x8 chessboard"},
-        BadInput{"WrongBoardSize", "floor calibrate --calibration {dir}/cal.pbtxt --board 10x8 --square 0.05 --write {dir}/board.png", 1, "no 10x8 chessboard"},
+        BadInput{"WrongBoardSize",
+                 "floor calibrate --calibration {dir}/cal.pbtxt --board 10x8 --square 0.05 --write "
+                 "{dir}/board.png",
+                 1, "no 10x8 chessboard"},
         BadInput{"UpsideDownIsDegenerate", kCalibrate + "{dir}/upside_down.png", 1, "upside down"},
-        BadInput{"BadBoardSpec", "floor calibrate --calibration {dir}/cal.pbtxt --board 11by8 --square 0.05 --write {dir}/board.png", 2, "COLSxROWS"},
-        BadInput{"BadSquare", "floor calibrate --calibration {dir}/cal.pbtxt --board 11x8 --square -1 --write {dir}/board.png", 2, "--square"},
-        BadInput{"BrokenCalibrationFile", "floor calibrate --calibration {dir}/broken.pbtxt --board 11x8 --square 0.05 --write {dir}/board.png", 1, "line 2"},
-        BadInput{"MalformedPoint", "floor measure --calibration {dir}/truth.pbtxt 640,800 12,ab", 2, "POINT '12,ab'"},
-        BadInput{"MalformedPairedPoint", "floor measure --calibration {dir}/truth.pbtxt 640,500@640", 2, "u,v@fu,fv"},
+        BadInput{"BadBoardSpec",
+                 "floor calibrate --calibration {dir}/cal.pbtxt --board 11by8 --square 0.05 "
+                 "--write {dir}/board.png",
+                 2, "COLSxROWS"},
+        BadInput{"BadSquare",
+                 "floor calibrate --calibration {dir}/cal.pbtxt --board 11x8 --square -1 --write "
+                 "{dir}/board.png",
+                 2, "--square"},
+        BadInput{"BrokenCalibrationFile",
+                 "floor calibrate --calibration {dir}/broken.pbtxt --board 11x8 --square 0.05 "
+                 "--write {dir}/board.png",
+                 1, "line 2"},
+        BadInput{"MalformedPoint", "floor measure --calibration {dir}/truth.pbtxt 640,800 12,ab", 2,
+                 "POINT '12,ab'"},
+        BadInput{"MalformedPairedPoint",
+                 "floor measure --calibration {dir}/truth.pbtxt 640,500@640", 2, "u,v@fu,fv"},
         BadInput{"NoPoints", "floor measure --calibration {dir}/truth.pbtxt", 2, "no POINT"},
-        BadInput{"MeasureWithoutFloorSection", "floor measure --calibration {dir}/cal.pbtxt 640,800", 1, "no floor section"},
-        BadInput{"PointOutsideImage", "floor measure --calibration {dir}/truth.pbtxt 5000,800", 1, ""},
-        BadInput{"UnknownOption", "floor measure --calibraton {dir}/truth.pbtxt 640,800", 2, "unknown option --calibraton"}),
+        BadInput{"MeasureWithoutFloorSection",
+                 "floor measure --calibration {dir}/cal.pbtxt 640,800", 1, "no floor section"},
+        BadInput{"PointOutsideImage", "floor measure --calibration {dir}/truth.pbtxt 5000,800", 1,
+                 ""},
+        BadInput{"UnknownOption", "floor measure --calibraton {dir}/truth.pbtxt 640,800", 2,
+                 "unknown option --calibraton"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViews) {
   TempDir dir("monocle_intrinsics_cli");
   const auto k = testing::PaperCamera();
   std::vector<std::string> images;
-  const FloorPose views[] = {{1.0, Deg(120), Deg(0), Deg(0)},    {1.0, Deg(135), Deg(25), Deg(10)},
-                             {0.9, Deg(115), Deg(-20), Deg(-12)}, {1.2, Deg(140), Deg(40), Deg(-5)},
-                             {0.8, Deg(125), Deg(-35), Deg(15)},  {1.1, Deg(145), Deg(10), Deg(20)}};
+  const FloorPose views[] = {
+      {1.0, Deg(120), Deg(0), Deg(0)},     {1.0, Deg(135), Deg(25), Deg(10)},
+      {0.9, Deg(115), Deg(-20), Deg(-12)}, {1.2, Deg(140), Deg(40), Deg(-5)},
+      {0.8, Deg(125), Deg(-35), Deg(15)},  {1.1, Deg(145), Deg(10), Deg(20)}};
   int index = 0;
   for (const auto& pose : views) {
     CameraCalibration c;
@@ -179,11 +207,14 @@ TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViews) {
     const std::string cal = dir / ("view" + std::to_string(index) + ".pbtxt");
     ASSERT_TRUE(SaveCalibrationFileAtomically(cal, c).ok());
     images.push_back(dir / ("view" + std::to_string(index) + ".png"));
-    const auto r = RunMonocle(dir, "render floor --calibration " + cal + " --board 9x6 --square 0.05 --noise 2 --out " + images.back());
+    const auto r =
+        RunMonocle(dir, "render floor --calibration " + cal +
+                            " --board 9x6 --square 0.05 --noise 2 --out " + images.back());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     ++index;
   }
-  std::string args = "intrinsics calibrate --board 9x6 --square 0.05 --out " + dir / "intrinsics.pbtxt";
+  std::string args =
+      "intrinsics calibrate --board 9x6 --square 0.05 --out " + dir / "intrinsics.pbtxt";
   for (const auto& i : images) args += " " + i;
   const auto r = RunMonocle(dir, args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
