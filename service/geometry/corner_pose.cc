@@ -26,8 +26,10 @@ Eigen::Vector2d Rotate(double angle, const Eigen::Vector2d& p) {
   return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
 }
 
-// Paper image coordinates (u right, v up) from OpenCV normalized (x right, y down).
-Eigen::Vector2d ToPaper(const Eigen::Vector2d& n) { return {n.x(), -n.y()}; }
+// Paper image coordinates from OpenCV normalized (x right, y down): u = -x, v = y. The
+// paper's camera frame (U, V, W) is left-handed and, for a camera tilted up, V points down
+// in the room; this is the mapping under which swing 0 is an upright camera.
+Eigen::Vector2d ToPaper(const Eigen::Vector2d& n) { return {-n.x(), n.y()}; }
 
 // Projection into OpenCV normalized coordinates; empty behind the camera.
 std::optional<Eigen::Vector2d> ProjectNormalized(const Eigen::Matrix3d& r, const Eigen::Vector3d& c,
@@ -97,8 +99,8 @@ Eigen::Matrix3d RotationCameraFromCorner(const CornerPose& pose) {
   uvw_from_corner << cp, sp, 0, -sp * ct, cp * ct, st, -sp * st, cp * st, -ct;
   Eigen::Matrix3d swing;  // (u_i, v_i) = R(delta) (u_p, v_p)
   swing << cs, -ss, 0, ss, cs, 0, 0, 0, 1;
-  // OpenCV's camera frame has y down where the paper's V is up.
-  return Eigen::Vector3d(1, -1, 1).asDiagonal() * swing * uvw_from_corner;
+  // OpenCV's camera frame (x right, y down, z forward) is (-U, V, W): see ToPaper.
+  return Eigen::Vector3d(-1, 1, 1).asDiagonal() * swing * uvw_from_corner;
 }
 
 Eigen::Vector3d CameraPosition(const CornerPose& pose) { return {pose.x_m, pose.y_m, pose.z_m}; }
@@ -124,10 +126,10 @@ CornerPose Canonical(const CornerPose& pose) {
 
 CornerPose PoseFromRotation(const Eigen::Matrix3d& camera_from_corner,
                             const Eigen::Vector3d& position) {
-  // Undo RotationCameraFromCorner: R_uvw = diag(1, -1, 1) R = R_w(delta) * U(psi, Theta),
+  // Undo RotationCameraFromCorner: R_uvw = diag(-1, 1, 1) R = R_w(delta) * U(psi, Theta),
   // whose third row is U's: (-sin psi sin Theta, cos psi sin Theta, -cos Theta), and whose
   // third column is R_w(delta) (0, sin Theta, -cos Theta).
-  const Eigen::Matrix3d r = Eigen::Vector3d(1, -1, 1).asDiagonal() * camera_from_corner;
+  const Eigen::Matrix3d r = Eigen::Vector3d(-1, 1, 1).asDiagonal() * camera_from_corner;
   const double tilt = std::acos(std::clamp(-r(2, 2), -1.0, 1.0));
   const double pan = std::atan2(-r(2, 0), r(2, 1));
   const double swing = std::atan2(-r(0, 2), r(1, 2));

@@ -10,9 +10,12 @@
 // rotated X, then the Z reversal F_z, then swing delta rotating the image plane. Tilt 0 looks
 // straight up at the ceiling, tilt pi/2 looks level.
 //
-// Image coordinates of the paper (u, v): u to the right, v UP, focal length 1, i.e.
-// u = x_n and v = -y_n for OpenCV's normalized coordinates (x_n right, y_n down) after
-// undistortion. Lines are u + b v + c = 0.
+// Image coordinates of the paper (u, v), focal length 1: u = -x_n and v = y_n for OpenCV's
+// normalized coordinates (x_n right, y_n down) after undistortion, i.e. u runs to the
+// image's left and v down. The paper's (U, V, W) camera frame is left-handed and its V axis
+// points down in the room when the camera tilts up, so this is the mapping under which
+// swing 0 is an upright camera (the vertical edge runs down the image). Lines are
+// u + b v + c = 0.
 #pragma once
 
 #include <Eigen/Core>

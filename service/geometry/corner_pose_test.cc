@@ -34,10 +34,21 @@ void ExpectPoseNear(const CornerPose& got, const CornerPose& want, double tol) {
   EXPECT_LT(AngleDiff(got.swing_rad, want.swing_rad), tol) << got << " vs " << want;
 }
 
-// The paper's (u, v): u right, v up; forward-project a corner-frame point.
+// The paper's (u, v) = (-x_n, y_n); forward-project a corner-frame point.
 Eigen::Vector2d PaperImage(const CornerPose& pose, const Eigen::Vector3d& p) {
   const Eigen::Vector3d c = CornerToCamera(pose, p);
-  return {c.x() / c.z(), -c.y() / c.z()};
+  return {-c.x() / c.z(), c.y() / c.z()};
+}
+
+TEST(CornerPoseTest, UprightCameraSeesTheVerticalEdgeRunDown) {
+  // Swing 0, tilt 50 degrees, looking at the corner: the Z edge (down from the ceiling)
+  // leaves the corner's image downwards (+y in OpenCV pixels), the ceiling is above it.
+  const CornerPose pose{2.0, 1.5, 1.6, std::atan2(2.0, -1.5), Deg(50), 0};
+  const Eigen::Vector3d corner = CornerToCamera(pose, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d down = CornerToCamera(pose, Eigen::Vector3d(0, 0, 0.3));
+  const Eigen::Vector3d ceiling = CornerToCamera(pose, Eigen::Vector3d(0.5, 0.5, 0));
+  EXPECT_GT(down.y() / down.z(), corner.y() / corner.z() + 0.01);
+  EXPECT_LT(ceiling.y() / ceiling.z(), corner.y() / corner.z());
 }
 
 TEST(CornerPoseTest, RotationIsProperAndLooksUpAtTiltZero) {
