@@ -18,6 +18,7 @@ constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
 
 int FloorCommand(const std::vector<std::string>& args);
+int CornerCommand(const std::vector<std::string>& args);
 int IntrinsicsCommand(const std::vector<std::string>& args);
 int RenderCommand(const std::vector<std::string>& args);
 

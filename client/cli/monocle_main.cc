@@ -20,8 +20,13 @@ Commands:
       vertically above a floor pixel "u,v@fu,fv".
   floor project --calibration CAL.pbtxt [--json] X,Y,Z...
       The pixel where the calibrated camera sees each robot-frame point (metres).
+  corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z] [--json] [--overlay DIR]
+      Camera position and pan, tilt, swing from the ceiling corner in each image.
   intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
       Focal lengths, principal point and lens distortion from several board images.
+  render corner --calibration CAL.pbtxt --pose X,Y,Z,PAN,TILT,SWING --out IMG.png
+                [--noise SIGMA] [--seed N] [--clutter] [--lighting]
+      Renders a room corner as the camera at that pose sees it.
   render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
                [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
       Renders a chessboard (and boxes) on the floor as the calibrated camera sees it.
@@ -40,6 +45,7 @@ int main(int argc, char** argv) {
   const std::string command = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (command == "floor") return monocle::cli::FloorCommand(rest);
+  if (command == "corner") return monocle::cli::CornerCommand(rest);
   if (command == "intrinsics") return monocle::cli::IntrinsicsCommand(rest);
   if (command == "render") return monocle::cli::RenderCommand(rest);
   if (command == "--version") {

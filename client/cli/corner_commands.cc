@@ -1,0 +1,202 @@
+// monocle corner locate (offline: images and a calibration file).
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "idl/cli_output.pb.h"
+#include "service/io/calibration_file.h"
+#include "service/vision/corner_locator.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+constexpr const char* kLocateHelp =
+    R"(Usage: monocle corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z]
+                             [--json] [--overlay DIR]
+
+Finds the ceiling corner (two ceiling edges and the vertical wall edge meeting in a Y) in
+each image and computes the camera's pose in the corner frame (Chou & Tsai 1986): origin
+at the corner, X and Y along the ceiling edges, Z down the vertical edge, room at x, y,
+z > 0. Position x, y, z in metres (z = the camera-to-ceiling distance), pan, tilt, swing in
+radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright camera).
+
+  --calibration CAL.pbtxt  intrinsics (pixels are undistorted first) and optionally
+                           corner { ceiling_distance }
+  --ceiling-distance Z     camera optical centre to ceiling, metres (overrides the file)
+  --json                   one JSON object per line: image x y z pan tilt swing
+                           quaternion corner_px rms_px sigma lines, or image error
+  --overlay DIR            write DIR/<image>.overlay.png with the edges, corner and pose
+
+Any image OpenCV reads (PNG, PGM, JPEG, ...). An image without a corner is reported and
+the others are still processed; the exit status is 1 if any image failed.
+)";
+
+const char* kAxisName[3] = {"X", "Y", "Z"};
+
+void WriteOverlay(const std::string& dir, const std::string& image_path, const cv::Mat& grey,
+                  const Result<CornerLocation>& result) {
+  cv::Mat color;
+  cv::cvtColor(grey, color, cv::COLOR_GRAY2BGR);
+  auto pt = [](const Eigen::Vector2d& p) {
+    return cv::Point(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+  };
+  std::string text;
+  if (result) {
+    for (const auto& s : result->edges.hough_segments)
+      cv::line(color, pt(s.a_px), pt(s.b_px), cv::Scalar(0, 200, 255), 1, cv::LINE_AA);
+    const cv::Scalar colors[3] = {cv::Scalar(0, 0, 255), cv::Scalar(0, 200, 0),
+                                  cv::Scalar(255, 0, 0)};
+    for (int a = 0; a < 3; ++a) {
+      cv::line(color, pt(result->corner_px), pt(result->line_end_px[a]), colors[a], 2, cv::LINE_AA);
+      cv::putText(color, kAxisName[a],
+                  pt(result->line_end_px[a] + 0.1 * (result->corner_px - result->line_end_px[a])),
+                  cv::FONT_HERSHEY_SIMPLEX, 1.0, colors[a], 2);
+    }
+    cv::circle(color, pt(result->corner_px), 8, cv::Scalar(0, 255, 255), 2, cv::LINE_AA);
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(3) << "x " << result->pose.x_m << " y "
+       << result->pose.y_m << " z " << result->pose.z_m << " m  pan " << std::setprecision(2)
+       << result->pose.pan_rad * kDeg << " tilt " << result->pose.tilt_rad * kDeg << " swing "
+       << result->pose.swing_rad * kDeg << " deg";
+    text = os.str();
+  } else {
+    text = result.error().message;
+  }
+  cv::putText(color, text, cv::Point(12, 32), cv::FONT_HERSHEY_SIMPLEX, 0.8, cv::Scalar(0, 0, 0),
+              4);
+  cv::putText(color, text, cv::Point(12, 32), cv::FONT_HERSHEY_SIMPLEX, 0.8,
+              cv::Scalar(0, 255, 255), 2);
+  const std::string out = (std::filesystem::path(dir) /
+                           (std::filesystem::path(image_path).stem().string() + ".overlay.png"))
+                              .string();
+  if (!cv::imwrite(out, color))
+    std::cerr << "monocle: warning: cannot write overlay " << out << "\n";
+}
+
+proto::CornerOutput ToOutput(const std::string& image, const Result<CornerLocation>& r) {
+  proto::CornerOutput out;
+  out.set_image(image);
+  if (!r) {
+    out.set_error(r.error().message);
+    return out;
+  }
+  const auto& p = r->pose;
+  out.set_x(p.x_m);
+  out.set_y(p.y_m);
+  out.set_z(p.z_m);
+  out.set_pan(p.pan_rad);
+  out.set_tilt(p.tilt_rad);
+  out.set_swing(p.swing_rad);
+  for (double v : {r->q_corner_camera.w(), r->q_corner_camera.x(), r->q_corner_camera.y(),
+                   r->q_corner_camera.z()})
+    out.add_quaternion(v);
+  out.add_corner_px(r->corner_px.x());
+  out.add_corner_px(r->corner_px.y());
+  out.set_rms_px(r->rms_px);
+  const auto s = r->Sigma();
+  out.mutable_sigma()->set_x(s[0]);
+  out.mutable_sigma()->set_y(s[1]);
+  out.mutable_sigma()->set_pan(s[2]);
+  out.mutable_sigma()->set_tilt(s[3]);
+  out.mutable_sigma()->set_swing(s[4]);
+  for (int a = 0; a < 3; ++a) {
+    auto* line = out.add_lines();
+    line->set_axis(kAxisName[a]);
+    line->add_from_px(r->corner_px.x());
+    line->add_from_px(r->corner_px.y());
+    line->add_to_px(r->line_end_px[a].x());
+    line->add_to_px(r->line_end_px[a].y());
+    line->set_points(r->points_per_line[a]);
+  }
+  return out;
+}
+
+int Locate(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kLocateHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera", "--count"},
+             {"--json", "--follow"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->Has("--camera")) {
+    return Fail(
+        "--camera needs the monocle service, which this build does not include yet; give IMAGE "
+        "files",
+        kExitUsage);
+  }
+  if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  const auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  double zc = calibration->ceiling_distance_m.value_or(0);
+  if (args->Get("--ceiling-distance")) {
+    const auto z = args->GetDouble("--ceiling-distance", 0);
+    if (!z || !(*z > 0))
+      return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
+    zc = *z;
+  }
+  if (!(zc > 0)) {
+    return Fail(
+        "the camera-to-ceiling distance is unknown: give --ceiling-distance Z (metres) or add "
+        "corner { ceiling_distance: Z } to " +
+            *cal_path,
+        kExitUsage);
+  }
+  const auto overlay = args->Get("--overlay");
+  if (overlay) {
+    std::error_code ec;
+    std::filesystem::create_directories(*overlay, ec);
+    if (ec)
+      return Fail("cannot create overlay folder '" + *overlay + "': " + ec.message(), kExitFailure);
+  }
+  const bool json = args->Has("--json");
+  bool any_failed = false;
+  for (const auto& path : args->positionals()) {
+    const auto image = ReadGreyImage(path);
+    Result<CornerLocation> result = image ? LocateCorner(*image, calibration->intrinsics, zc)
+                                          : Result<CornerLocation>(image.error());
+    any_failed |= !result.ok();
+    if (overlay && image) WriteOverlay(*overlay, path, *image, result);
+    if (json) {
+      std::cout << ToJson(ToOutput(path, result)) << std::endl;
+      continue;
+    }
+    if (!result) {
+      std::cout << path << "  error: " << result.error().message << std::endl;
+      continue;
+    }
+    const auto& p = result->pose;
+    const auto s = result->Sigma();
+    std::cout << std::fixed << std::setprecision(4) << path << "  x=" << p.x_m << " y=" << p.y_m
+              << " z=" << p.z_m << " m  pan=" << p.pan_rad << " tilt=" << p.tilt_rad
+              << " swing=" << p.swing_rad << " rad  (1σ " << s[0] << " " << s[1] << " m, " << s[2]
+              << " " << s[3] << " " << s[4] << " rad)  corner " << std::setprecision(1)
+              << result->corner_px.x() << "," << result->corner_px.y() << " px  rms "
+              << std::setprecision(3) << result->rms_px << " px" << std::endl;
+  }
+  return any_failed ? kExitFailure : kExitOk;
+}
+
+}  // namespace
+
+int CornerCommand(const std::vector<std::string>& args) {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::cout << "Usage: monocle corner locate ...  (monocle corner locate --help)\n";
+    return args.empty() ? kExitUsage : kExitOk;
+  }
+  if (args[0] == "locate") return Locate({args.begin() + 1, args.end()});
+  return Fail("unknown corner command '" + args[0] + "' (locate)", kExitUsage);
+}
+
+}  // namespace monocle::cli
