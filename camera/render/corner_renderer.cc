@@ -118,10 +118,10 @@ double Shade(const Hit& hit, const CornerScene& scene) {
   }
   if (!scene.uneven_lighting) return base;
   // A lamp below the ceiling near the corner: Lambertian falloff, plus a soft texture.
-  const Eigen::Vector3d lamp(1.5, 1.1, 0.4);
+  const Eigen::Vector3d lamp(1.5, 1.1, 1.0);
   const Eigen::Vector3d to_lamp = lamp - hit.point;
   const double cosine = std::max(0.0, normal.dot(to_lamp.normalized()));
-  const double light = 0.65 + 0.6 * cosine / (1 + to_lamp.squaredNorm() / 4);
+  const double light = 0.7 + 0.5 * cosine / (1 + to_lamp.squaredNorm() / 4);
   const double texture = 1 + 0.04 * std::sin(7.3 * hit.point.x() + 3.1 * hit.point.y()) *
                                  std::sin(5.7 * hit.point.z() + 2.3 * hit.point.x());
   return std::min(base * light * texture, 250.0);

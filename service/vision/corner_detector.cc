@@ -150,10 +150,33 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
 // Splits the edge pixels supporting a Hough line into contiguous segments.
 void SegmentsOfLine(const std::vector<EdgePixel>& edges, int line, double alpha, double rho,
                     double min_length, std::vector<Segment>* out) {
-  const Eigen::Vector2d normal(std::cos(alpha), std::sin(alpha));
+  Eigen::Vector2d normal(std::cos(alpha), std::sin(alpha));
+  const double cos_tol = std::cos(12 * kPi / 180);
+  // The Hough cell is coarse (0.5 degree moves the end of a 500 px line by 2 px): gather a
+  // wide band first, fit it, then keep what lies within 1.5 px of the fitted line.
+  {
+    constexpr double band = 3.0;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    int count = 0;
+    for (const auto& e : edges) {
+      const Eigen::Vector2d p(e.x, e.y);
+      if (std::abs(normal.dot(p) - rho) > band) continue;
+      if (std::abs(normal.x() * e.nx + normal.y() * e.ny) < cos_tol) continue;
+      mean += p;
+      scatter += p * p.transpose();
+      ++count;
+    }
+    if (count >= 2) {
+      mean /= count;
+      scatter = scatter / count - mean * mean.transpose();
+      const double angle = 0.5 * std::atan2(2 * scatter(0, 1), scatter(0, 0) - scatter(1, 1));
+      normal = Eigen::Vector2d(-std::sin(angle), std::cos(angle));
+      rho = normal.dot(mean);
+    }
+  }
   const Eigen::Vector2d direction(-normal.y(), normal.x());
   std::vector<std::pair<double, Eigen::Vector2d>> support;
-  const double cos_tol = std::cos(12 * kPi / 180);
   for (const auto& e : edges) {
     const Eigen::Vector2d p(e.x, e.y);
     if (std::abs(normal.dot(p) - rho) > 1.5) continue;
@@ -162,7 +185,7 @@ void SegmentsOfLine(const std::vector<EdgePixel>& edges, int line, double alpha,
   }
   std::sort(support.begin(), support.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
-  constexpr double kMaxGap = 6;  // half-resolution pixels
+  constexpr double kMaxGap = 8;  // half-resolution pixels
   size_t start = 0;
   for (size_t i = 1; i <= support.size(); ++i) {
     if (i < support.size() && support[i].first - support[i - 1].first <= kMaxGap) continue;
@@ -201,13 +224,6 @@ void SegmentsOfLine(const std::vector<EdgePixel>& edges, int line, double alpha,
   }
 }
 
-std::optional<Eigen::Vector2d> Intersect(const Segment& a, const Segment& b) {
-  Eigen::Matrix2d m;
-  m << a.normal.transpose(), b.normal.transpose();
-  if (std::abs(m.determinant()) < 1e-6) return std::nullopt;
-  return m.inverse() * Eigen::Vector2d(a.rho, b.rho);
-}
-
 double AngleBetween(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
 }
@@ -219,11 +235,11 @@ struct YTriple {
   double score = -1;
 };
 
-// The paper's identification of the corner lines: the three pairwise intersections close
-// together, each segment ending near them and running away from them, and every angle
-// between the three rays above 90 degrees (we allow 80 for lens distortion and the
-// half-resolution Hough). Among the triples that pass, the most supported wins; edges that
-// run to the image border (the paper's check 3) count extra.
+// The paper's identification of the corner lines: the three lines passing close to one
+// point (the paper asks the pairwise intersections to be close together), each segment ending near
+// them and running away from them, and every angle between the three rays above 90 degrees (we
+// allow 80 for lens distortion and the half-resolution Hough). Among the triples that pass, the
+// most supported wins; edges that run to the image border (the paper's check 3) count extra.
 std::optional<YTriple> FindY(const std::vector<Segment>& segments, int w, int h,
                              double junction_radius) {
   YTriple best;
@@ -235,12 +251,19 @@ std::optional<YTriple> FindY(const std::vector<Segment>& segments, int w, int h,
       for (int k = j + 1; k < n; ++k) {
         if (segments[k].line == segments[i].line || segments[k].line == segments[j].line) continue;
         const std::array<const Segment*, 3> s{&segments[i], &segments[j], &segments[k]};
-        const auto p01 = Intersect(*s[0], *s[1]), p12 = Intersect(*s[1], *s[2]),
-                   p02 = Intersect(*s[0], *s[2]);
-        if (!p01 || !p12 || !p02) continue;
-        const Eigen::Vector2d c = (*p01 + *p12 + *p02) / 3;
-        if ((*p01 - c).norm() > junction_radius || (*p12 - c).norm() > junction_radius ||
-            (*p02 - c).norm() > junction_radius) {
+        // The corner: the point closest to all three lines. (Pairwise intersections slide
+        // far along two nearly collinear edges, which a Y often has.)
+        Eigen::Matrix2d normal_matrix = Eigen::Matrix2d::Zero();
+        Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+        for (const auto* seg : s) {
+          normal_matrix += seg->normal * seg->normal.transpose();
+          rhs += seg->rho * seg->normal;
+        }
+        if (std::abs(normal_matrix.determinant()) < 1e-6) continue;
+        const Eigen::Vector2d c = normal_matrix.inverse() * rhs;
+        if (std::abs(s[0]->normal.dot(c) - s[0]->rho) > junction_radius ||
+            std::abs(s[1]->normal.dot(c) - s[1]->rho) > junction_radius ||
+            std::abs(s[2]->normal.dot(c) - s[2]->rho) > junction_radius) {
           continue;
         }
         YTriple t;
@@ -250,11 +273,16 @@ std::optional<YTriple> FindY(const std::vector<Segment>& segments, int w, int h,
         double score = 0;
         for (int m = 0; m < 3 && ok; ++m) {
           const double tc = s[m]->direction.dot(c);
-          // The segment must lie on one side of the corner and start near it.
+          // The segment must lie on one side of the corner and start near it. It may run a
+          // little past the corner: two nearly collinear edges support each other there.
+          const double ahead = s[m]->t1 - tc, behind = tc - s[m]->t0;
+          const bool forward = ahead >= behind;
+          const double overshoot = forward ? behind : ahead;
+          const double length = s[m]->t1 - s[m]->t0;
           const double near = std::min(std::abs(s[m]->t0 - tc), std::abs(s[m]->t1 - tc));
-          const bool forward = s[m]->t0 >= tc - 3;
-          const bool backward = s[m]->t1 <= tc + 3;
-          if (!(forward || backward) || near > 3 * junction_radius) ok = false;
+          if (overshoot > std::max(1.5 * junction_radius, 0.15 * length) ||
+              near > 4 * junction_radius)
+            ok = false;
           t.direction[m] = forward ? s[m]->direction : Eigen::Vector2d(-s[m]->direction);
           score += s[m]->support;
           const Eigen::Vector2d far = forward ? s[m]->End(1) : s[m]->End(0);
@@ -330,7 +358,96 @@ std::vector<Eigen::Vector2d> MeasureEdgePoints(const cv::Mat& grey,
   return out;
 }
 
-Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options) {
+namespace {
+
+struct SegmentStage {
+  double scale = 1;
+  cv::Mat small;
+  std::vector<Segment> segments;
+};
+
+Eigen::Vector2d ToFull(const Eigen::Vector2d& p, double scale) {
+  return ((p.array() + 0.5) / scale - 0.5).matrix();
+}
+Eigen::Vector2d ToSmall(const Eigen::Vector2d& p, double scale) {
+  return ((p.array() + 0.5) * scale - 0.5).matrix();
+}
+
+// Pixel <-> undistorted pixel (the same camera without lens distortion).
+Eigen::Vector2d UndistortPixel(const CameraIntrinsics& k, const Eigen::Vector2d& px,
+                               Eigen::Matrix2d* jacobian) {
+  Eigen::Matrix2d j = Eigen::Matrix2d::Identity();
+  const auto n = PixelToNormalized(k, px, &j);
+  if (!n) return px;
+  const Eigen::Vector2d f(k.fx, k.fy);
+  if (jacobian != nullptr) *jacobian = f.asDiagonal() * j;
+  return {k.fx * n->x() + k.cx, k.fy * n->y() + k.cy};
+}
+
+Eigen::Vector2d RedistortPixel(const CameraIntrinsics& k, const Eigen::Vector2d& undistorted_px) {
+  return NormalizedToPixel(
+      k, Eigen::Vector2d((undistorted_px.x() - k.cx) / k.fx, (undistorted_px.y() - k.cy) / k.fy));
+}
+
+SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& options,
+                          const CameraIntrinsics* k) {
+  SegmentStage out;
+  // Half resolution for detection: four times fewer pixels, and the Hough cells grow with it.
+  out.scale = std::min(grey.cols, grey.rows) >= 400 ? 0.5 : 1.0;
+  out.small = grey;
+  if (out.scale < 1) cv::resize(grey, out.small, cv::Size(), out.scale, out.scale, cv::INTER_AREA);
+  auto edges = ThinEdges(out.small, options.edge_threshold);
+  if (k != nullptr && k->HasDistortion()) {
+    // Move every edge pixel (and its gradient) to where an undistorted camera sees it.
+    for (auto& e : edges) {
+      Eigen::Matrix2d j = Eigen::Matrix2d::Identity();
+      const Eigen::Vector2d u =
+          UndistortPixel(*k, ToFull(Eigen::Vector2d(e.x, e.y), out.scale), &j);
+      const Eigen::Vector2d p = ToSmall(u, out.scale);
+      const Eigen::Vector2d tangent = (j * Eigen::Vector2d(-e.ny, e.nx)).normalized();
+      e.x = static_cast<float>(p.x());
+      e.y = static_cast<float>(p.y());
+      e.nx = static_cast<float>(tangent.y());
+      e.ny = static_cast<float>(-tangent.x());
+    }
+  }
+  const double min_length = options.min_edge_length_px * out.scale;
+  std::array<double, kAngleBins> cos_table, sin_table;
+  int rho_offset = 0;
+  // Undistorted points may leave the frame a little: size the accumulator for 1.5x.
+  const auto peaks = HoughPeaks(edges, out.small.cols * 3 / 2, out.small.rows * 3 / 2,
+                                static_cast<int>(min_length), options.max_lines, &cos_table,
+                                &sin_table, &rho_offset);
+  for (size_t i = 0; i < peaks.size(); ++i) {
+    const double alpha = peaks[i].angle_bin * kPi / kAngleBins;
+    SegmentsOfLine(edges, static_cast<int>(i), alpha, peaks[i].rho_bin, min_length, &out.segments);
+  }
+  return out;
+}
+
+// Full-resolution pixel of the image from a half-resolution (possibly undistorted) point.
+Eigen::Vector2d ToImage(const Eigen::Vector2d& p, double scale, const CameraIntrinsics* k) {
+  const Eigen::Vector2d full = ToFull(p, scale);
+  return k != nullptr && k->HasDistortion() ? RedistortPixel(*k, full) : full;
+}
+
+}  // namespace
+
+std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
+                                              const CornerDetectorOptions& options,
+                                              const CameraIntrinsics* k) {
+  std::vector<HoughSegment> out;
+  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols < 64 || grey.rows < 64) return out;
+  const auto stage = FindSegments(grey, options, k);
+  for (const auto& s : stage.segments) {
+    out.push_back(
+        {ToImage(s.End(0), stage.scale, k), ToImage(s.End(1), stage.scale, k), s.support});
+  }
+  return out;
+}
+
+Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options,
+                                      const CameraIntrinsics* k) {
   if (grey.empty() || grey.type() != CV_8UC1) {
     return MakeError(ErrorCode::kInvalidArgument, "corner detection needs an 8-bit grey image");
   }
@@ -339,29 +456,15 @@ Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorO
                      "the image is " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
                          ": too small to find a corner in (at least 64x64)");
   }
-  // Half resolution for detection: four times fewer pixels, and the Hough cells grow with it.
-  const double scale = std::min(grey.cols, grey.rows) >= 400 ? 0.5 : 1.0;
-  cv::Mat small = grey;
-  if (scale < 1) cv::resize(grey, small, cv::Size(), scale, scale, cv::INTER_AREA);
-  auto to_full = [&](const Eigen::Vector2d& p) {
-    return ((p.array() + 0.5) / scale - 0.5).matrix().eval();
-  };
-
-  const auto edges = ThinEdges(small, options.edge_threshold);
-  const double min_length = options.min_edge_length_px * scale;
-  std::array<double, kAngleBins> cos_table, sin_table;
-  int rho_offset = 0;
-  const auto peaks = HoughPeaks(edges, small.cols, small.rows, static_cast<int>(min_length),
-                                options.max_lines, &cos_table, &sin_table, &rho_offset);
-  std::vector<Segment> segments;
-  for (size_t i = 0; i < peaks.size(); ++i) {
-    const double alpha = peaks[i].angle_bin * kPi / kAngleBins;
-    SegmentsOfLine(edges, static_cast<int>(i), alpha, peaks[i].rho_bin, min_length, &segments);
-  }
+  const auto stage = FindSegments(grey, options, k);
+  const double scale = stage.scale;
+  const auto& segments = stage.segments;
+  auto to_full = [&](const Eigen::Vector2d& p) { return ToImage(p, scale, k); };
   CornerEdges out;
   for (const auto& s : segments)
     out.hough_segments.push_back({to_full(s.End(0)), to_full(s.End(1)), s.support});
-  const auto y = FindY(segments, small.cols, small.rows, options.junction_radius_px * scale);
+  const auto y =
+      FindY(segments, stage.small.cols, stage.small.rows, options.junction_radius_px * scale);
   if (!y) {
     return MakeError(ErrorCode::kNotFound,
                      "no ceiling corner found: no three edges meet in a Y (found " +
@@ -373,7 +476,9 @@ Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorO
   // the three edges blur into each other) to the image border.
   const double max_t = std::hypot(grey.cols, grey.rows);
   for (int m = 0; m < 3; ++m) {
-    const Eigen::Vector2d d = y->direction[m];
+    // The ray's direction in the image, where it leaves the corner.
+    const Eigen::Vector2d d =
+        (to_full(y->corner + 10 * y->direction[m]) - out.corner_px).normalized();
     const Eigen::Vector2d n(-d.y(), d.x());
     out.direction[m] = d;
     std::vector<Eigen::Vector2d> positions, normals;

@@ -13,15 +13,16 @@
 #include <vector>
 
 #include "service/common/result.h"
+#include "service/geometry/camera_model.h"
 
 namespace monocle {
 
 struct CornerDetectorOptions {
-  double edge_threshold = 40;  // Sobel magnitude (3x3) at half resolution; ~10 grey levels of step
-  int max_lines = 16;          // Hough peaks considered
+  double edge_threshold = 32;  // Sobel magnitude (3x3) at half resolution; ~10 grey levels of step
+  int max_lines = 24;          // Hough peaks considered
   double min_edge_length_px = 60;  // shortest corner edge, full resolution
   double junction_radius_px = 12;  // how far apart the pairwise intersections may be
-  double min_step_grey = 6;        // weakest edge contrast measured at full resolution
+  double min_step_grey = 4;        // weakest edge contrast measured at full resolution
 };
 
 // One image line found by the Hough stage (half resolution is hidden from callers).
@@ -43,7 +44,17 @@ struct CornerEdges {
 // Finds the Y and samples its edges along straight rays from the corner to the image
 // border (a caller that knows the lens resamples along the curved line, see
 // MeasureEdgePoints).
-Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options);
+// With `intrinsics`, edge pixels are undistorted before the Hough transform, so edges bent
+// by the lens still vote for one straight line; everything returned is in the image's own
+// (distorted) pixels.
+Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options,
+                                      const CameraIntrinsics* intrinsics = nullptr);
+
+// The straight edges the Hough stage finds (full-resolution pixels), for overlays and
+// diagnosis when no corner is found.
+std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
+                                              const CornerDetectorOptions& options = {},
+                                              const CameraIntrinsics* intrinsics = nullptr);
 
 // Subpixel edge points near predicted positions: for each (position, unit normal) the
 // intensity derivative along the normal within +-half_width_px, its maximum refined by a

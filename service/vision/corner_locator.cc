@@ -80,7 +80,7 @@ Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics&
                          " but the calibration is for " + std::to_string(k.width_px) + "x" +
                          std::to_string(k.height_px));
   }
-  auto edges = DetectCornerEdges(grey, options);
+  auto edges = DetectCornerEdges(grey, options, &k);
   if (!edges) return edges.error();
   const double focal = 0.5 * (k.fx + k.fy);
   const double floor_sigma = 0.05 / focal;  // no edge is measured better than 0.05 px
@@ -128,13 +128,21 @@ Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics&
   }
 
   // Section 3.5: the corner is the centre of the three pairwise intersections; each line is
-  // refitted through it.
+  // refitted through it. Each intersection is weighted by sin^2 of its lines' angle: a Y
+  // often has two nearly collinear edges whose intersection slides along them; with well
+  // separated lines this is the paper's plain centre.
   Eigen::Vector2d corner = Eigen::Vector2d::Zero();
+  double weights = 0;
   for (int m = 0; m < 3; ++m) {
     const auto p = IntersectLines(fits[m], fits[(m + 1) % 3]);
-    if (!p) return MakeError(ErrorCode::kDegenerate, "two corner edges are parallel");
-    corner += *p / 3;
+    if (!p) continue;
+    const double sine = fits[m].direction.x() * fits[(m + 1) % 3].direction.y() -
+                        fits[m].direction.y() * fits[(m + 1) % 3].direction.x();
+    corner += sine * sine * *p;
+    weights += sine * sine;
   }
+  if (!(weights > 1e-6)) return MakeError(ErrorCode::kDegenerate, "the corner edges are parallel");
+  corner /= weights;
   std::array<ObservedRay, 3> rays;
   std::array<LineObservation, 3> observations;
   double point_sigma2 = 0;
