@@ -280,27 +280,19 @@ std::optional<std::array<ObservedRay, 3>> RotateRays(const std::array<ObservedRa
 
 }  // namespace
 
-std::vector<CornerCandidate> SolveCornerCandidates(const std::array<ObservedRay, 3>& rays,
-                                                   double zc) {
-  // The paper's closed form is ill-conditioned when a corner line passes near the principal
-  // point: eq. (14) becomes 0/0 and eq. (15) approaches a double root, losing half the
-  // digits. That happens whenever the camera aims at the corner. A virtual rotation of the
-  // camera about its centre moves the corner's image off-centre, in a direction that keeps
-  // every line away from the principal point, without changing the camera's position; the
-  // solution is turned back afterwards. Several placements are tried; the caller keeps the
-  // best-conditioned one.
-  std::vector<CornerCandidate> out;
+namespace {
+
+// Virtual rotations of the camera about its centre (virtual_from_real) that move the
+// corner's image off-centre, each in a direction halfway between two of the lines.
+std::vector<Eigen::Matrix3d> Placements(const std::array<ObservedRay, 3>& rays) {
   Eigen::Vector2d corner = Eigen::Vector2d::Zero();
   for (const auto& r : rays) corner += r.corner / 3;
-  std::array<double, 3> angles;
-  for (int k = 0; k < 3; ++k) angles[k] = std::atan2(rays[k].direction.y(), rays[k].direction.x());
-  std::sort(angles.begin(), angles.end());
-  // Directions, modulo pi, halfway between neighbouring lines: the target lies far from
-  // every line through it.
   std::array<double, 3> folded;
-  for (int k = 0; k < 3; ++k) folded[k] = std::fmod(angles[k] + 2 * kPi, kPi);
+  for (int k = 0; k < 3; ++k) {
+    folded[k] = std::fmod(std::atan2(rays[k].direction.y(), rays[k].direction.x()) + 2 * kPi, kPi);
+  }
   std::sort(folded.begin(), folded.end());
-  int placement = 0;
+  std::vector<Eigen::Matrix3d> out;
   for (int k = 0; k < 3; ++k) {
     const double next = k + 1 < 3 ? folded[k + 1] : folded[0] + kPi;
     const double mid = 0.5 * (folded[k] + next);
@@ -309,15 +301,61 @@ std::vector<CornerCandidate> SolveCornerCandidates(const std::array<ObservedRay,
       const Eigen::Vector3d from = corner.homogeneous().normalized();
       const Eigen::Vector3d to =
           Eigen::Vector3d(kOffset * std::cos(phi), kOffset * std::sin(phi), 1).normalized();
-      const Eigen::Matrix3d virtual_from_real =
-          Eigen::Quaterniond::FromTwoVectors(from, to).toRotationMatrix();
-      const auto turned = RotateRays(rays, virtual_from_real);
-      if (!turned) continue;
-      const size_t first = out.size();
-      SolveInFrame(*turned, zc, virtual_from_real.transpose(), rays, &out);
-      for (size_t i = first; i < out.size(); ++i) out[i].placement = placement;
-      ++placement;
+      out.push_back(Eigen::Quaterniond::FromTwoVectors(from, to).toRotationMatrix());
     }
+  }
+  return out;
+}
+
+// Candidates of one placement.
+void SolvePlacement(const std::array<ObservedRay, 3>& rays, double zc,
+                    const Eigen::Matrix3d& virtual_from_real, int placement,
+                    std::vector<CornerCandidate>* out) {
+  const auto turned = RotateRays(rays, virtual_from_real);
+  if (!turned) return;
+  const size_t first = out->size();
+  SolveInFrame(*turned, zc, virtual_from_real.transpose(), rays, out);
+  for (size_t i = first; i < out->size(); ++i) (*out)[i].placement = placement;
+}
+
+// The orthogonal trihedron is symmetric under the cyclic relabelling X -> Y -> Z: each of
+// the three cyclic labellings explains the rays exactly, with a different scale. The image
+// cannot tell them apart; the mount can. A camera that sees a ceiling corner looks up
+// (tilt < 90 degrees) and stands upright (small swing). Among the candidates that explain
+// the rays, take one looking up, then the least swing. Measured over 20000 random views in
+// the range tilt 10-85, swing +-30 degrees: every other such candidate looking up has
+// |swing| > 60 degrees, a margin of 30 (corner_pose_test checks > 50).
+const CornerCandidate* Choose(const std::vector<CornerCandidate>& candidates) {
+  double best_residual = std::numeric_limits<double>::infinity();
+  for (const auto& c : candidates) {
+    if (c.valid) best_residual = std::min(best_residual, c.residual);
+  }
+  const double accept = std::max(kExplainsRays, 3 * best_residual);
+  auto key = [](const CornerCandidate& k) {
+    return std::make_pair(k.pose.tilt_rad >= kPi / 2, std::abs(k.pose.swing_rad));
+  };
+  const CornerCandidate* chosen = nullptr;
+  for (const auto& c : candidates) {
+    if (!c.valid || c.residual > accept) continue;
+    if (chosen == nullptr || key(c) < key(*chosen)) chosen = &c;
+  }
+  return chosen;
+}
+
+}  // namespace
+
+std::vector<CornerCandidate> SolveCornerCandidates(const std::array<ObservedRay, 3>& rays,
+                                                   double zc) {
+  // The paper's closed form is ill-conditioned when a corner line passes near the principal
+  // point: eq. (14) becomes 0/0 and eq. (15) approaches a double root, losing half the
+  // digits. That happens whenever the camera aims at the corner. A virtual rotation of the
+  // camera about its centre moves the corner's image off-centre, in a direction that keeps
+  // every line away from the principal point, without changing the camera's position; the
+  // solution is turned back afterwards.
+  std::vector<CornerCandidate> out;
+  const auto placements = Placements(rays);
+  for (size_t p = 0; p < placements.size(); ++p) {
+    SolvePlacement(rays, zc, placements[p], static_cast<int>(p), &out);
   }
   return out;
 }
@@ -325,33 +363,20 @@ std::vector<CornerCandidate> SolveCornerCandidates(const std::array<ObservedRay,
 Result<CornerCandidate> SolveCornerClosedForm(const std::array<ObservedRay, 3>& rays, double zc) {
   if (!(zc > 0))
     return MakeError(ErrorCode::kInvalidArgument, "the ceiling distance must be positive");
-  const auto candidates = SolveCornerCandidates(rays, zc);
-  // The orthogonal trihedron is symmetric under the cyclic relabelling X -> Y -> Z: each of
-  // the three cyclic labellings explains the rays exactly, with a different scale. The image
-  // cannot tell them apart; the mount can. A camera that sees a ceiling corner looks up
-  // (tilt < 90 degrees) and stands upright (small swing). Among the candidates that explain
-  // the rays, take one looking up, then the least swing. Measured over 20000 random views in
-  // the range tilt 10-85, swing +-30 degrees: every other such candidate looking up has
-  // |swing| > 60 degrees, a margin of 30 (corner_pose_test checks > 50).
-  auto key = [](const CornerCandidate& k) {
-    return std::make_pair(k.pose.tilt_rad >= kPi / 2, std::abs(k.pose.swing_rad));
-  };
-  const CornerCandidate* best = nullptr;
-  for (int placement = 0; placement < 6; ++placement) {
-    double best_residual = std::numeric_limits<double>::infinity();
-    for (const auto& c : candidates) {
-      if (c.placement == placement && c.valid) best_residual = std::min(best_residual, c.residual);
-    }
-    const double accept = std::max(kExplainsRays, 3 * best_residual);
-    const CornerCandidate* chosen = nullptr;
-    for (const auto& c : candidates) {
-      if (c.placement != placement || !c.valid || c.residual > accept) continue;
-      if (chosen == nullptr || key(c) < key(*chosen)) chosen = &c;
-    }
-    if (chosen != nullptr && (best == nullptr || chosen->conditioning > best->conditioning))
-      best = chosen;
+  // Placements in turn; the first whose choice is well conditioned is kept (the
+  // conditioning bounds the digits lost), otherwise the best conditioned of all.
+  constexpr double kWellConditioned = 0.05;
+  std::optional<CornerCandidate> best;
+  const auto placements = Placements(rays);
+  for (size_t p = 0; p < placements.size(); ++p) {
+    std::vector<CornerCandidate> candidates;
+    SolvePlacement(rays, zc, placements[p], static_cast<int>(p), &candidates);
+    const CornerCandidate* chosen = Choose(candidates);
+    if (chosen == nullptr) continue;
+    if (!best || chosen->conditioning > best->conditioning) best = *chosen;
+    if (best->conditioning > kWellConditioned) break;
   }
-  if (best == nullptr) {
+  if (!best) {
     return MakeError(
         ErrorCode::kDegenerate,
         "the three lines cannot be the edges of a ceiling corner seen from inside the room");

@@ -91,7 +91,10 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   const int d = static_cast<int>(std::ceil(std::hypot(w, h))) + 2;
   *rho_offset = d;
   const int rho_bins = 2 * d + 1;
-  std::vector<int32_t> acc(static_cast<size_t>(kAngleBins) * rho_bins, 0);
+  // 16-bit counts: half the memory to clear each frame; a line has far fewer than 65535 votes.
+  std::vector<uint16_t> acc(static_cast<size_t>(kAngleBins) * rho_bins, 0);
+  const int candidate_votes = std::max(1, min_votes / 3);
+  std::vector<size_t> candidates;
   for (const auto& e : edges) {
     double alpha = std::atan2(e.ny, e.nx);
     if (alpha < 0) alpha += kPi;
@@ -99,32 +102,42 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
     for (int da = -kVoteHalfWindow; da <= kVoteHalfWindow; ++da) {
       const int a = ((a0 + da) % kAngleBins + kAngleBins) % kAngleBins;
       const double rho = e.x * (*cos_table)[a] + e.y * (*sin_table)[a];
-      ++acc[static_cast<size_t>(a) * rho_bins + static_cast<int>(std::lround(rho)) + d];
+      const size_t cell =
+          static_cast<size_t>(a) * rho_bins + static_cast<int>(std::lround(rho)) + d;
+      // A peak of H' >= min_votes needs a cell of H >= min_votes / 3: remember those as they
+      // arise instead of scanning the whole accumulator afterwards.
+      if (++acc[cell] == candidate_votes) candidates.push_back(cell);
     }
   }
   auto smoothed = [&](int a, int r) {
     a = (a % kAngleBins + kAngleBins) % kAngleBins;  // wrapping in angle flips rho; close enough
     if (r < 1 || r >= rho_bins - 1) return 0;
-    const int32_t* row = &acc[static_cast<size_t>(a) * rho_bins];
+    const uint16_t* row = &acc[static_cast<size_t>(a) * rho_bins];
     return row[r - 1] + row[r] + row[r + 1];
   };
   std::vector<HoughPeak> peaks;
-  for (int a = 0; a < kAngleBins; ++a) {
-    const int32_t* row = &acc[static_cast<size_t>(a) * rho_bins];
-    for (int r = 1; r < rho_bins - 1; ++r) {
-      const int v = row[r - 1] + row[r] + row[r + 1];
-      if (v < min_votes) continue;
-      bool is_max = true;
-      for (int da = -1; da <= 1 && is_max; ++da) {
-        for (int dr = -1; dr <= 1 && is_max; ++dr) {
-          if (da == 0 && dr == 0) continue;
-          const int n = smoothed(a + da, r + dr);
-          // Ties broken towards the lower index so a plateau yields one peak.
-          if (n > v || (n == v && (da < 0 || (da == 0 && dr < 0)))) is_max = false;
-        }
+  std::vector<size_t> cells;
+  for (size_t cell : candidates) {
+    // H' may peak at the cell or at its rho neighbours.
+    for (int dr = -1; dr <= 1; ++dr) cells.push_back(cell + dr);
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  for (size_t cell : cells) {
+    const int a = static_cast<int>(cell / rho_bins), r = static_cast<int>(cell % rho_bins);
+    if (r < 1 || r >= rho_bins - 1) continue;
+    const int v = smoothed(a, r);
+    if (v < min_votes) continue;
+    bool is_max = true;
+    for (int da = -1; da <= 1 && is_max; ++da) {
+      for (int dr = -1; dr <= 1 && is_max; ++dr) {
+        if (da == 0 && dr == 0) continue;
+        const int n = smoothed(a + da, r + dr);
+        // Ties broken towards the lower index so a plateau yields one peak.
+        if (n > v || (n == v && (da < 0 || (da == 0 && dr < 0)))) is_max = false;
       }
-      if (is_max) peaks.push_back({a, r - d, v});
     }
+    if (is_max) peaks.push_back({a, r - d, v});
   }
   std::sort(peaks.begin(), peaks.end(),
             [](const HoughPeak& x, const HoughPeak& y) { return x.votes > y.votes; });
@@ -148,7 +161,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
 }
 
 // Splits the edge pixels supporting a Hough line into contiguous segments.
-void SegmentsOfLine(const std::vector<EdgePixel>& edges, int line, double alpha, double rho,
+void SegmentsOfLine(const std::vector<const EdgePixel*>& edges, int line, double alpha, double rho,
                     double min_length, std::vector<Segment>* out) {
   Eigen::Vector2d normal(std::cos(alpha), std::sin(alpha));
   const double cos_tol = std::cos(12 * kPi / 180);
@@ -159,7 +172,8 @@ void SegmentsOfLine(const std::vector<EdgePixel>& edges, int line, double alpha,
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     int count = 0;
-    for (const auto& e : edges) {
+    for (const EdgePixel* ep : edges) {
+      const EdgePixel& e = *ep;
       const Eigen::Vector2d p(e.x, e.y);
       if (std::abs(normal.dot(p) - rho) > band) continue;
       if (std::abs(normal.x() * e.nx + normal.y() * e.ny) < cos_tol) continue;
@@ -177,7 +191,8 @@ void SegmentsOfLine(const std::vector<EdgePixel>& edges, int line, double alpha,
   }
   const Eigen::Vector2d direction(-normal.y(), normal.x());
   std::vector<std::pair<double, Eigen::Vector2d>> support;
-  for (const auto& e : edges) {
+  for (const EdgePixel* ep : edges) {
+    const EdgePixel& e = *ep;
     const Eigen::Vector2d p(e.x, e.y);
     if (std::abs(normal.dot(p) - rho) > 1.5) continue;
     if (std::abs(normal.x() * e.nx + normal.y() * e.ny) < cos_tol) continue;
@@ -414,13 +429,28 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
   const double min_length = options.min_edge_length_px * out.scale;
   std::array<double, kAngleBins> cos_table, sin_table;
   int rho_offset = 0;
-  // Undistorted points may leave the frame a little: size the accumulator for 1.5x.
-  const auto peaks = HoughPeaks(edges, out.small.cols * 3 / 2, out.small.rows * 3 / 2,
+  // Undistorted points may leave the frame a little: size the accumulator for 1.25x.
+  const auto peaks = HoughPeaks(edges, out.small.cols * 5 / 4, out.small.rows * 5 / 4,
                                 static_cast<int>(min_length), options.max_lines, &cos_table,
                                 &sin_table, &rho_offset);
+  // Edges bucketed by gradient direction (1 degree, modulo 180): a line only looks at the
+  // edges within the 12 degrees its support test accepts.
+  std::array<std::vector<const EdgePixel*>, 180> buckets;
+  for (const auto& e : edges) {
+    double deg = std::atan2(e.ny, e.nx) * 180 / kPi;
+    if (deg < 0) deg += 180;
+    buckets[static_cast<int>(deg) % 180].push_back(&e);
+  }
+  std::vector<const EdgePixel*> nearby;
   for (size_t i = 0; i < peaks.size(); ++i) {
     const double alpha = peaks[i].angle_bin * kPi / kAngleBins;
-    SegmentsOfLine(edges, static_cast<int>(i), alpha, peaks[i].rho_bin, min_length, &out.segments);
+    const int center = static_cast<int>(alpha * 180 / kPi);
+    nearby.clear();
+    for (int b = center - 13; b <= center + 13; ++b) {
+      const auto& bucket = buckets[((b % 180) + 180) % 180];
+      nearby.insert(nearby.end(), bucket.begin(), bucket.end());
+    }
+    SegmentsOfLine(nearby, static_cast<int>(i), alpha, peaks[i].rho_bin, min_length, &out.segments);
   }
   return out;
 }
