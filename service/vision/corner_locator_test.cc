@@ -1,0 +1,108 @@
+#include "service/vision/corner_locator.h"
+
+#include <gtest/gtest.h>
+
+#include "camera/render/corner_renderer.h"
+#include "service/geometry/test_scenes.h"
+
+namespace monocle {
+namespace {
+
+using testing::Deg;
+
+struct Case {
+  const char* name;
+  CornerPose pose;
+  bool distortion, clutter, lighting;
+};
+
+class CornerLocatorTest : public ::testing::TestWithParam<Case> {};
+
+TEST_P(CornerLocatorTest, RecoversTheRenderedPose) {
+  const Case& c = GetParam();
+  CameraIntrinsics k = testing::PaperCamera();
+  if (!c.distortion) k.distortion = {};
+  CornerScene scene;
+  scene.noise_sigma = 2;
+  scene.clutter = c.clutter;
+  scene.uneven_lighting = c.lighting;
+  const auto got = LocateCorner(RenderCornerScene(k, c.pose, scene), k, c.pose.z_m);
+  ASSERT_TRUE(got.ok()) << got.error();
+  const double distance = std::hypot(c.pose.x_m, c.pose.y_m);
+  EXPECT_LT(std::hypot(got->pose.x_m - c.pose.x_m, got->pose.y_m - c.pose.y_m), 0.005 * distance)
+      << *got;
+  EXPECT_NEAR(got->pose.tilt_rad, c.pose.tilt_rad, Deg(0.1)) << *got;
+  EXPECT_NEAR(got->pose.pan_rad, c.pose.pan_rad, Deg(0.2)) << *got;
+  EXPECT_NEAR(got->pose.swing_rad, c.pose.swing_rad, Deg(0.2)) << *got;
+  EXPECT_LT(got->rms_px, 0.5);
+  // The quaternion is the same orientation as pan, tilt and swing.
+  const Eigen::Matrix3d r = RotationCameraFromCorner(got->pose).transpose();
+  EXPECT_LT((got->q_corner_camera.toRotationMatrix() - r).norm(), 1e-9);
+  // The reported corner pixel is where the true corner projects.
+  const Eigen::Vector3d p = CornerToCamera(c.pose, Eigen::Vector3d::Zero());
+  EXPECT_LT((got->corner_px - NormalizedToPixel(k, p.head<2>() / p.z())).norm(), 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Views, CornerLocatorTest,
+    ::testing::Values(
+        Case{"Plain", {2.0, 1.5, 1.6, std::atan2(2.0, -1.5), 0.9, 0.1}, false, false, false},
+        Case{
+            "LensDistortion", {2.0, 1.5, 1.6, std::atan2(2.0, -1.5), 0.9, 0.1}, true, false, false},
+        Case{"ClutterAndUnevenLighting",
+             {2.0, 1.5, 1.6, std::atan2(2.0, -1.5), 0.9, 0.1},
+             true,
+             true,
+             true},
+        // Corner about 100 px from the left border.
+        Case{"NearTheBorder",
+             {1.43288, 1.90922, 1.42722, 2.87685, 1.00151, 0.214452},
+             true,
+             false,
+             false},
+        Case{"FarAndLevel",
+             {5.0, 4.0, 1.2, std::atan2(5.0, -4.0), Deg(80), Deg(-10)},
+             true,
+             false,
+             false},
+        Case{"CloseAndSteep",
+             {0.5, 0.6, 2.5, std::atan2(0.5, -0.6), Deg(15), Deg(20)},
+             true,
+             false,
+             false}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(CornerLocatorErrorsTest, BlankImageHasNoCorner) {
+  const auto k = testing::PaperCamera();
+  const auto got = LocateCorner(cv::Mat(1024, 1280, CV_8UC1, cv::Scalar(128)), k, 1.6);
+  ASSERT_FALSE(got.ok());
+  EXPECT_EQ(got.error().code, ErrorCode::kNotFound);
+  EXPECT_NE(got.error().message.find("no ceiling corner"), std::string::npos);
+}
+
+TEST(CornerLocatorErrorsTest, OnlyTwoEdgesInViewIsNoCorner) {
+  // Looking along a ceiling edge away from the corner: one edge and a wall, no Y.
+  const auto k = testing::PaperCamera();
+  const CornerPose pose{3.0, 1.0, 1.6, 1.9, 0.7, -0.2};
+  const auto got = LocateCorner(RenderCornerScene(k, pose, CornerScene{}), k, 1.6);
+  ASSERT_FALSE(got.ok());
+  EXPECT_NE(got.error().message.find("no ceiling corner"), std::string::npos);
+}
+
+TEST(CornerLocatorErrorsTest, TinyImageAndMissingDistanceAreClearErrors) {
+  CameraIntrinsics k = testing::PaperCamera();
+  k.width_px = k.height_px = 32;
+  k.cx = k.cy = 16;
+  const auto tiny = LocateCorner(cv::Mat(32, 32, CV_8UC1, cv::Scalar(0)), k, 1.6);
+  ASSERT_FALSE(tiny.ok());
+  EXPECT_NE(tiny.error().message.find("too small"), std::string::npos);
+  const auto no_distance = LocateCorner(cv::Mat(32, 32, CV_8UC1, cv::Scalar(0)), k, 0);
+  ASSERT_FALSE(no_distance.ok());
+  EXPECT_NE(no_distance.error().message.find("ceiling"), std::string::npos);
+  const auto wrong_size = LocateCorner(cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), k, 1.6);
+  ASSERT_FALSE(wrong_size.ok());
+  EXPECT_NE(wrong_size.error().message.find("calibration is for 32x32"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace monocle

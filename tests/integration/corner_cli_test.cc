@@ -1,0 +1,102 @@
+// `monocle render corner` and `monocle corner locate` as a user runs them.
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "idl/cli_output.pb.h"
+#include "service/geometry/test_scenes.h"
+#include "service/io/calibration_file.h"
+#include "tests/integration/cli_process.h"
+
+namespace monocle {
+namespace {
+
+using testing::RunMonocle;
+using testing::TempDir;
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string line; std::getline(ss, line);) out.push_back(line);
+  return out;
+}
+
+class CornerCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    CameraCalibration cal;
+    cal.intrinsics = testing::PaperCamera();
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "nodistance.pbtxt", cal).ok());
+    cal.ceiling_distance_m = 1.6;
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "cal.pbtxt", cal).ok());
+  }
+  TempDir dir_{"monocle_corner_cli"};
+};
+
+TEST_F(CornerCliTest, LocatesEachImageAndReportsFailuresPerImage) {
+  // A corner in view (with clutter), then a view with no corner.
+  auto r = RunMonocle(dir_,
+                      "render corner --calibration " + dir_ / "cal.pbtxt" +
+                          " --pose 2,1.5,1.6,2.2143,0.9,0.1 --noise 2 --clutter --lighting --out " +
+                          dir_ / "a.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                           " --pose 3,1,1.6,1.9,0.7,-0.2 --out " + dir_ / "b.pgm");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  { std::ofstream(dir_ / "garbage.png") << "not an image"; }
+
+  r = RunMonocle(dir_, "corner locate " + dir_ / "a.png" + " " + dir_ / "b.pgm" + " " +
+                           dir_ / "garbage.png" + " " + dir_ / "missing.png" + " --calibration " +
+                           dir_ / "cal.pbtxt" + " --json --overlay " + dir_ / "overlays");
+  EXPECT_EQ(r.exit_code, 1) << "some images failed";
+  const auto lines = Lines(r.out);
+  ASSERT_EQ(lines.size(), 4u) << r.out;
+  std::vector<proto::CornerOutput> out(4);
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(lines[i], &out[i]).ok()) << lines[i];
+  }
+  EXPECT_EQ(out[0].image(), dir_ / "a.png");
+  ASSERT_FALSE(out[0].has_error()) << out[0].error();
+  EXPECT_NEAR(out[0].x(), 2.0, 0.01);
+  EXPECT_NEAR(out[0].y(), 1.5, 0.01);
+  EXPECT_DOUBLE_EQ(out[0].z(), 1.6);
+  EXPECT_NEAR(out[0].pan(), 2.2143, 0.005);
+  EXPECT_NEAR(out[0].tilt(), 0.9, 0.005);
+  EXPECT_NEAR(out[0].swing(), 0.1, 0.005);
+  EXPECT_EQ(out[0].quaternion_size(), 4);
+  EXPECT_EQ(out[0].corner_px_size(), 2);
+  EXPECT_EQ(out[0].lines_size(), 3);
+  EXPECT_GT(out[0].sigma().x(), 0);
+  EXPECT_NE(out[1].error().find("no ceiling corner"), std::string::npos) << out[1].DebugString();
+  EXPECT_NE(out[2].error().find("not an image format"), std::string::npos) << out[2].DebugString();
+  EXPECT_NE(out[3].error().find("no such file"), std::string::npos) << out[3].DebugString();
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "overlays/a.overlay.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "overlays/b.overlay.png"));
+}
+
+TEST_F(CornerCliTest, CeilingDistanceFromTheCommandLineOrAClearError) {
+  auto r =
+      RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                           " --pose 2,1.5,2.0,2.2143,0.9,0.1 --noise 2 --out " + dir_ / "a.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_,
+                 "corner locate " + dir_ / "a.png" + " --calibration " + dir_ / "nodistance.pbtxt");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--ceiling-distance"), std::string::npos) << r.err;
+  r = RunMonocle(dir_, "corner locate " + dir_ / "a.png" + " --calibration " +
+                           dir_ / "nodistance.pbtxt" + " --ceiling-distance 2.0 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  proto::CornerOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_NEAR(out.x(), 2.0, 0.01);
+  EXPECT_DOUBLE_EQ(out.z(), 2.0);
+  r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                           " --pose 2,1.5 --out " + dir_ / "x.png");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("X,Y,Z,PAN,TILT,SWING"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace monocle
