@@ -1,0 +1,67 @@
+// Frames from a GenICam camera (GigE Vision or USB3 Vision) through Aravis.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "camera/aravis/glib_handles.h"
+#include "camera/frame_source.h"
+
+namespace monocle {
+
+struct AravisOptions {
+  std::string device;  // Aravis device id, IPv4 address or serial number
+  std::string pixel_format = "Mono8";
+  std::optional<std::array<int, 4>> region;  // x, y, width, height in pixels
+  std::optional<double> exposure_us;
+  std::optional<double> gain;
+  std::optional<double> frame_rate_hz;
+  std::optional<int> packet_size_bytes;         // GigE only
+  std::optional<int> inter_packet_delay_ticks;  // GigE only
+  // Any other GenICam feature by name, value as text; checked against the device.
+  std::vector<std::pair<std::string, std::string>> features;
+  int buffers = 4;  // ring handed to the pipeline without copying
+};
+
+// A camera as Aravis lists it.
+struct CameraInfo {
+  std::string id, vendor, model, serial, address, protocol;
+};
+
+std::vector<CameraInfo> ListCameras();
+
+class AravisSource : public FrameSource {
+ public:
+  // Opens, configures (every value range-checked against the device) and starts streaming.
+  static Result<std::unique_ptr<AravisSource>> Open(const AravisOptions& options);
+  ~AravisSource() override;
+
+  const std::string& id() const override { return id_; }
+  Result<Frame> Next(std::chrono::milliseconds timeout) override;
+  bool lost() const { return state_->lost.load(); }
+  // The caller saw the stream stall: treat the camera as gone (no stop command on close).
+  void MarkUnresponsive() { state_->lost.store(true); }
+  uint64_t dropped() const { return dropped_; }
+  const CameraInfo& info() const { return info_; }
+
+ private:
+  // Shared with the control-lost signal handler and with frames still held by the pipeline.
+  struct State {
+    std::atomic<bool> lost{false};
+  };
+  AravisSource() = default;
+
+  std::string id_;
+  CameraInfo info_;
+  GObjectPtr<ArvCamera> camera_;
+  std::shared_ptr<GObjectPtr<ArvStream>> stream_;
+  std::shared_ptr<State> state_ = std::make_shared<State>();
+  gulong lost_handler_ = 0;
+  uint64_t dropped_ = 0;
+};
+
+}  // namespace monocle

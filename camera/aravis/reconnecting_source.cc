@@ -1,0 +1,71 @@
+#include "camera/aravis/reconnecting_source.h"
+
+#include <algorithm>
+#include <thread>
+
+namespace monocle {
+
+ReconnectingSource::ReconnectingSource(AravisOptions options, StateCallback on_state,
+                                       std::chrono::milliseconds stall_timeout)
+    : options_(std::move(options)), on_state_(std::move(on_state)), stall_timeout_(stall_timeout) {}
+
+void ReconnectingSource::SetState(CameraState s, const std::string& reason) {
+  if (s == state_ && s == CameraState::kStreaming) return;
+  state_ = s;
+  if (on_state_) on_state_(s, reason);
+}
+
+Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (!source_) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now < next_attempt_) {
+        std::this_thread::sleep_for(
+            std::min<std::chrono::steady_clock::duration>(next_attempt_ - now, deadline - now));
+        continue;
+      }
+      auto opened = AravisSource::Open(options_);
+      if (!opened) {
+        // Back-off doubles up to 2 s: quick to come back, quiet while the camera is away.
+        next_attempt_ = std::chrono::steady_clock::now() + backoff_;
+        backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(2000));
+        if (opened.error().code == ErrorCode::kOutOfRange ||
+            opened.error().code == ErrorCode::kInvalidArgument) {
+          return opened.error();  // a configuration error will not heal by waiting
+        }
+        continue;
+      }
+      source_ = std::move(opened).value();
+      backoff_ = std::chrono::milliseconds(100);
+      last_frame_ = std::chrono::steady_clock::now();
+    }
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    auto frame = source_->Next(std::min(left, stall_timeout_));
+    if (frame) {
+      last_frame_ = std::chrono::steady_clock::now();
+      SetState(CameraState::kStreaming, "");
+      return frame;
+    }
+    // Lost (control-lost) or no frame for longer than the stall timeout: report, drop, retry.
+    const bool stalled = std::chrono::steady_clock::now() - last_frame_ >= stall_timeout_;
+    if (frame.error().code == ErrorCode::kIo || stalled) {
+      // Report first: closing a camera that no longer answers can take seconds of GVCP
+      // time-outs.
+      SetState(CameraState::kReconnecting, stalled && frame.error().code != ErrorCode::kIo
+                                               ? "camera '" + options_.device +
+                                                     "' stalled: no frame for " +
+                                                     std::to_string(stall_timeout_.count()) + " ms"
+                                               : frame.error().message);
+      source_->MarkUnresponsive();
+      source_.reset();
+      next_attempt_ = std::chrono::steady_clock::now() + backoff_;
+    }
+  }
+  return MakeError(ErrorCode::kNotFound,
+                   "no frame from camera '" + options_.device + "' yet (" +
+                       (state_ == CameraState::kStreaming ? "streaming" : "reconnecting") + ")");
+}
+
+}  // namespace monocle

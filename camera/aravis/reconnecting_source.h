@@ -1,0 +1,42 @@
+// An Aravis camera that survives losing its camera: on control-lost or a stalled stream it
+// reports the loss at once, then reopens the same camera with back-off and resumes,
+// without restarting the process.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "camera/aravis/aravis_source.h"
+
+namespace monocle {
+
+enum class CameraState { kStreaming, kReconnecting };
+
+class ReconnectingSource : public FrameSource {
+ public:
+  using StateCallback = std::function<void(CameraState, const std::string& reason)>;
+
+  ReconnectingSource(AravisOptions options, StateCallback on_state,
+                     std::chrono::milliseconds stall_timeout = std::chrono::milliseconds(1000));
+
+  const std::string& id() const override { return options_.device; }
+  // A frame, or the error of this attempt (loss, waiting for the camera); keep calling.
+  Result<Frame> Next(std::chrono::milliseconds timeout) override;
+  CameraState state() const { return state_; }
+
+ private:
+  void SetState(CameraState s, const std::string& reason);
+
+  AravisOptions options_;
+  StateCallback on_state_;
+  std::chrono::milliseconds stall_timeout_;
+  std::unique_ptr<AravisSource> source_;
+  CameraState state_ = CameraState::kReconnecting;
+  std::chrono::milliseconds backoff_{100};
+  std::chrono::steady_clock::time_point next_attempt_{};
+  std::chrono::steady_clock::time_point last_frame_{};
+};
+
+}  // namespace monocle

@@ -1,0 +1,38 @@
+// One small interface for every frame source (Aravis devices real or simulated, files).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "service/common/result.h"
+
+namespace monocle {
+
+enum class TimeSource {
+  kHost,    // the host's clock when the frame was received (no PTP)
+  kCamera,  // the camera's clock (PTP-synchronised)
+};
+
+struct Frame {
+  cv::Mat grey;           // 8-bit grey; may view the source's buffer (see `keepalive`)
+  uint64_t sequence = 0;  // the camera's frame id
+  int64_t capture_time_ns = 0;
+  TimeSource time_source = TimeSource::kHost;
+  std::string camera_id;
+  // Holds the source's buffer while the frame lives; releasing it returns the buffer.
+  std::shared_ptr<void> keepalive;
+};
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual const std::string& id() const = 0;
+  // The next frame, or an error: kNotFound when nothing arrived within `timeout`
+  // (a stalled stream), kIo when the camera was lost.
+  virtual Result<Frame> Next(std::chrono::milliseconds timeout) = 0;
+};
+
+}  // namespace monocle

@@ -1,0 +1,102 @@
+#include "camera/sim/sim_gv_camera.h"
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "camera/render/corner_renderer.h"
+#include "camera/render/floor_renderer.h"
+
+namespace monocle {
+
+CameraIntrinsics SimIntrinsics(int width, int height) {
+  const double s = width / 1280.0;
+  CameraIntrinsics k;
+  k.width_px = width;
+  k.height_px = height;
+  k.fx = 1624.34 * s;
+  k.fy = 1623.04 * s;
+  k.cx = (width - 1) / 2.0;
+  k.cy = (height - 1) / 2.0;
+  k.distortion = {-0.07021, 0.07348, -0.00112, 0.00267, 0, 0, 0, 0};
+  return k;
+}
+
+Result<std::unique_ptr<SimGvCamera>> SimGvCamera::Start(const SimCameraOptions& o) {
+  if (o.width < 64 || o.height < 64 || o.width > 4096 || o.height > 4096) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "simulated camera size must be 64..4096 pixels each way");
+  }
+  if (!(o.fps > 0 && o.fps <= 1000))
+    return MakeError(ErrorCode::kInvalidArgument, "--fps must be in (0, 1000]");
+  std::unique_ptr<SimGvCamera> cam(new SimGvCamera());
+  cam->options_ = o;
+  cam->intrinsics_ = SimIntrinsics(o.width, o.height);
+  const int n = std::max(o.trajectory_frames, 1);
+  // A robot driving past the corner, 1.6 m below the ceiling, camera aimed near it.
+  for (int i = 0; i < n; ++i) {
+    const double t = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
+    CornerPose p{1.6 + 1.2 * t, 2.4 - 0.8 * t, 1.6, 0, 0.95 - 0.1 * t, 0.05 * std::sin(6.0 * t)};
+    p.pan_rad = std::atan2(p.x_m, -p.y_m) + 0.08 * std::cos(5.0 * t);
+    cam->corner_poses_.push_back(p);
+  }
+  cam->floor_pose_ = FloorPose{1.05, 2.0595, 0.0698, 0.0262};
+  for (int i = 0; i < (o.scene == SimScene::kCorner ? n : 2); ++i) {
+    if (o.scene == SimScene::kCorner) {
+      CornerScene scene;
+      scene.noise_sigma = o.noise_sigma;
+      scene.seed = 100 + i;
+      cam->frames_.push_back(RenderCornerScene(cam->intrinsics_, cam->corner_poses_[i], scene));
+    } else {
+      FloorScene scene;
+      scene.board_cols = 11;
+      scene.board_rows = 8;
+      scene.square_m = 0.05;
+      scene.board_origin_robot_m = CenteredBoardOrigin(cam->floor_pose_, 11, 8, 0.05);
+      scene.boxes.push_back(FloorBox{{0.45, 2.3}, {0.3, 0.3}, 0.5});
+      scene.noise_sigma = o.noise_sigma;
+      scene.seed = 100 + i;
+      cam->frames_.push_back(RenderFloorScene(cam->intrinsics_, cam->floor_pose_, scene));
+    }
+  }
+  cam->camera_ =
+      GObjectPtr<ArvGvFakeCamera>(arv_gv_fake_camera_new(o.ip.c_str(), o.serial.c_str()));
+  if (!cam->camera_ || !arv_gv_fake_camera_is_running(cam->camera_.get())) {
+    return MakeError(ErrorCode::kIo, "cannot serve a simulated GigE Vision camera on " + o.ip +
+                                         " (is another one already running there? ports 3956/udp)");
+  }
+  ArvFakeCamera* fake = arv_gv_fake_camera_get_fake_camera(cam->camera_.get());
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_WIDTH,
+                                 static_cast<guint32>(o.width));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_HEIGHT,
+                                 static_cast<guint32>(o.height));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US,
+                                 static_cast<guint32>(std::lround(1e6 / o.fps)));
+  arv_fake_camera_set_fill_pattern(fake, &SimGvCamera::Fill, cam.get());
+  return cam;
+}
+
+SimGvCamera::~SimGvCamera() {
+  if (camera_) {
+    // Stop filling from `this` before it goes away, then stop serving.
+    arv_fake_camera_set_fill_pattern(arv_gv_fake_camera_get_fake_camera(camera_.get()), nullptr,
+                                     nullptr);
+    camera_.reset();
+  }
+}
+
+void SimGvCamera::Fill(ArvBuffer* buffer, void* self_ptr, guint32, guint32, ArvPixelFormat format) {
+  auto* self = static_cast<SimGvCamera*>(self_ptr);
+  // Inside the fill callback the buffer's data size reads 0 (nothing received yet): size the
+  // copy by the image width and height the camera set, which its payload always covers.
+  auto* data = static_cast<uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, nullptr)));
+  const int w = arv_buffer_get_image_width(buffer), h = arv_buffer_get_image_height(buffer);
+  if (data == nullptr || format != ARV_PIXEL_FORMAT_MONO_8 || w <= 0 || h <= 0) return;
+  const cv::Mat& src = self->FrameFor(arv_buffer_get_frame_id(buffer));
+  std::memset(data, 0, static_cast<size_t>(w) * h);
+  const int rows = std::min(h, src.rows), cols = std::min(w, src.cols);
+  for (int y = 0; y < rows; ++y)
+    std::memcpy(data + static_cast<size_t>(y) * w, src.ptr<uint8_t>(y), cols);
+}
+
+}  // namespace monocle

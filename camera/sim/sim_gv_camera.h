@@ -1,0 +1,62 @@
+// A simulated GigE Vision camera on a local address: Aravis's own ArvGvFakeCamera, its
+// frames filled with scenes we render (a ceiling corner seen from a moving robot, or a
+// floor with a chessboard and a box). Clients reach it through the real GigE Vision path.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "camera/aravis/glib_handles.h"
+#include "service/common/result.h"
+#include "service/geometry/camera_model.h"
+#include "service/geometry/corner_pose.h"
+#include "service/geometry/floor_model.h"
+
+namespace monocle {
+
+enum class SimScene { kCorner, kFloor };
+
+struct SimCameraOptions {
+  SimScene scene = SimScene::kCorner;
+  std::string ip = "127.0.0.1";  // loopback; two simulated cameras cannot share an address
+  std::string serial = "MONOCLE-SIM";
+  int width = 1280, height = 1024;
+  double fps = 30;
+  int trajectory_frames = 16;  // distinct poses; frame id k shows pose k mod this
+  double noise_sigma = 2;
+};
+
+class SimGvCamera {
+ public:
+  static Result<std::unique_ptr<SimGvCamera>> Start(const SimCameraOptions& options);
+  ~SimGvCamera();
+
+  const SimCameraOptions& options() const { return options_; }
+  const CameraIntrinsics& intrinsics() const { return intrinsics_; }
+  // Ground truth, keyed by the frame id the camera sends.
+  const cv::Mat& FrameFor(uint64_t frame_id) const { return frames_[frame_id % frames_.size()]; }
+  const CornerPose& CornerPoseFor(uint64_t frame_id) const {
+    return corner_poses_[frame_id % corner_poses_.size()];
+  }
+  const FloorPose& floor_pose() const { return floor_pose_; }
+  const std::vector<CornerPose>& trajectory() const { return corner_poses_; }
+
+ private:
+  SimGvCamera() = default;
+  static void Fill(ArvBuffer* buffer, void* self, guint32, guint32, ArvPixelFormat);
+
+  SimCameraOptions options_;
+  CameraIntrinsics intrinsics_;
+  std::vector<cv::Mat> frames_;
+  std::vector<CornerPose> corner_poses_;
+  FloorPose floor_pose_;
+  GObjectPtr<ArvGvFakeCamera> camera_;
+};
+
+// The intrinsics of the simulated cameras: the paper's camera scaled to width x height.
+CameraIntrinsics SimIntrinsics(int width, int height);
+
+}  // namespace monocle
