@@ -17,10 +17,11 @@ enum class TimeSource {
 };
 
 struct Frame {
-  cv::Mat grey;           // 8-bit grey; may view the source's buffer (see `keepalive`)
-  uint64_t sequence = 0;  // the camera's frame id
-  int64_t capture_time_ns = 0;
+  cv::Mat grey;                 // 8-bit grey; may view the source's buffer (see `keepalive`)
+  uint64_t sequence = 0;        // the camera's frame id
+  int64_t capture_time_ns = 0;  // see time_source
   TimeSource time_source = TimeSource::kHost;
+  int64_t device_time_ns = 0;  // the camera's own timestamp, in its clock
   std::string camera_id;
   // Holds the source's buffer while the frame lives; releasing it returns the buffer.
   std::shared_ptr<void> keepalive;

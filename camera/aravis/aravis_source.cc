@@ -331,6 +331,7 @@ Result<Frame> AravisSource::Next(std::chrono::milliseconds timeout) {
     // common clock when PTP runs, which we do not enable: report the host's time.
     f.capture_time_ns = static_cast<int64_t>(arv_buffer_get_system_timestamp(buffer));
     f.time_source = TimeSource::kHost;
+    f.device_time_ns = static_cast<int64_t>(arv_buffer_get_timestamp(buffer));
     const bool view = grey->data == arv_buffer_get_image_data(buffer, nullptr);
     f.grey = *grey;
     if (view) {

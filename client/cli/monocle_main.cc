@@ -31,6 +31,13 @@ Commands:
                [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
       Renders a chessboard (and boxes) on the floor as the calibrated camera sees it.
 
+  cameras [--json]
+      Lists the GigE Vision and USB3 Vision cameras Aravis sees.
+  snapshot CAMERA --out IMG.png
+      Grabs one frame from a camera given by id, IP address or serial.
+  simcam --scene corner|floor [--ip 127.0.0.1] [--width W --height H --fps F] [--truth FILE]
+      Serves a simulated GigE Vision camera whose frames are rendered scenes.
+
 Exit status: 0 success, 1 a measurement or input failed, 2 wrong command line.
 )";
 
@@ -46,6 +53,9 @@ int main(int argc, char** argv) {
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (command == "floor") return monocle::cli::FloorCommand(rest);
   if (command == "corner") return monocle::cli::CornerCommand(rest);
+  if (command == "cameras" || command == "snapshot" || command == "simcam") {
+    return monocle::cli::CameraCommand(command, rest);
+  }
   if (command == "intrinsics") return monocle::cli::IntrinsicsCommand(rest);
   if (command == "render") return monocle::cli::RenderCommand(rest);
   if (command == "--version") {

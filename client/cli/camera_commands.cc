@@ -1,0 +1,202 @@
+// monocle cameras | snapshot | simcam: cameras through Aravis.
+#include <csignal>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "camera/aravis/aravis_source.h"
+#include "camera/sim/sim_gv_camera.h"
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "service/io/calibration_file.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr const char* kCamerasHelp = R"(Usage: monocle cameras [--json]
+
+Lists the cameras Aravis sees (GigE Vision and USB3 Vision): id, vendor, model, serial,
+address, interface. A simulated camera on 127.0.0.1 may not be discovered: open it by its
+address (monocle snapshot 127.0.0.1 ...).
+)";
+
+constexpr const char* kSnapshotHelp =
+    R"(Usage: monocle snapshot CAMERA --out IMG.png [--pixel-format F] [--timeout MS]
+
+Grabs one frame from CAMERA (an Aravis device id, an IPv4 address or a serial number)
+and writes it as 8-bit grey (Mono16, Bayer and RGB frames are converted).
+
+  --pixel-format F  GenICam pixel format to request (default Mono8)
+  --timeout MS      how long to wait for a frame, milliseconds (default 3000)
+)";
+
+constexpr const char* kSimcamHelp =
+    R"(Usage: monocle simcam --scene corner|floor [--ip 127.0.0.1] [--serial S] [--width W --height H]
+                      [--fps F] [--frames N] [--truth FILE] [--calibration-out CAL.pbtxt]
+
+Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
+frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
+trajectory of N poses (frame id k shows pose k mod N), `floor` a chessboard and a box on
+the floor. Runs until Ctrl-C (SIGINT) or SIGTERM.
+
+  --ip A              address to serve on (default 127.0.0.1; one camera per address)
+  --serial S          serial number (default MONOCLE-SIM)
+  --width/--height    image size, pixels (default 1280x1024)
+  --fps F             frame rate, Hz (default 30)
+  --frames N          poses on the trajectory (default 16)
+  --truth FILE        write the ground truth: one JSON object per pose, keyed by
+                      frame id modulo N (corner: x y z pan tilt swing; floor: height
+                      pitch yaw roll)
+  --calibration-out   write the camera's calibration file (intrinsics, and the ceiling
+                      distance or the floor pose) for `monocle corner locate` and friends
+)";
+
+int Cameras(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kCamerasHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{}, {"--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  const auto cams = ListCameras();
+  if (args->Has("--json")) {
+    std::cout << "[";
+    for (size_t i = 0; i < cams.size(); ++i) {
+      const auto& c = cams[i];
+      std::cout << (i ? "," : "") << "{\"id\":\"" << c.id << "\",\"vendor\":\"" << c.vendor
+                << "\",\"model\":\"" << c.model << "\",\"serial\":\"" << c.serial
+                << "\",\"address\":\"" << c.address << "\",\"interface\":\"" << c.protocol << "\"}";
+    }
+    std::cout << "]\n";
+  } else if (cams.empty()) {
+    std::cout << "no cameras found\n";
+  } else {
+    for (const auto& c : cams) {
+      std::cout << c.id << "  " << c.vendor << " " << c.model << "  serial " << c.serial << "  "
+                << c.address << "  " << c.protocol << "\n";
+    }
+  }
+  return kExitOk;
+}
+
+int Snapshot(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kSnapshotHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{"--out", "--pixel-format", "--timeout"}, {}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->positionals().size() != 1)
+    return Fail("snapshot takes one CAMERA (see --help)", kExitUsage);
+  const auto out = args->Require("--out");
+  if (!out) return Fail(out.error(), kExitUsage);
+  const auto timeout = args->GetDouble("--timeout", 3000);
+  if (!timeout || *timeout <= 0)
+    return Fail("--timeout must be a positive number of milliseconds", kExitUsage);
+  AravisOptions options;
+  options.device = args->positionals()[0];
+  options.pixel_format = args->Get("--pixel-format").value_or("Mono8");
+  auto source = AravisSource::Open(options);
+  if (!source) return Fail(source.error(), kExitFailure);
+  const auto frame = (*source)->Next(std::chrono::milliseconds(static_cast<int64_t>(*timeout)));
+  if (!frame) return Fail(frame.error(), kExitFailure);
+  if (!cv::imwrite(*out, frame->grey)) return Fail("cannot write '" + *out + "'", kExitFailure);
+  std::cout << "frame " << frame->sequence << " " << frame->grey.cols << "x" << frame->grey.rows
+            << " from " << (*source)->info().vendor << " " << (*source)->info().model
+            << " written to " << *out << "\n";
+  return kExitOk;
+}
+
+int Simcam(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kSimcamHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps",
+                                  "--frames", "--truth", "--calibration-out", "--trajectory"},
+                                 {}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->Has("--trajectory")) {
+    return Fail(
+        "--trajectory FILE is not supported yet; the corner scene drives a built-in trajectory "
+        "(--frames sets its length)",
+        kExitUsage);
+  }
+  SimCameraOptions o;
+  const std::string scene = args->Get("--scene").value_or("");
+  if (scene != "corner" && scene != "floor")
+    return Fail("--scene must be corner or floor", kExitUsage);
+  o.scene = scene == "corner" ? SimScene::kCorner : SimScene::kFloor;
+  o.ip = args->Get("--ip").value_or(o.ip);
+  o.serial = args->Get("--serial").value_or(o.serial);
+  const auto w = args->GetDouble("--width", o.width), h = args->GetDouble("--height", o.height);
+  const auto fps = args->GetDouble("--fps", o.fps),
+             frames = args->GetDouble("--frames", o.trajectory_frames);
+  if (!w || !h || !fps || !frames || *frames < 1)
+    return Fail("--width, --height, --fps, --frames must be positive numbers", kExitUsage);
+  o.width = static_cast<int>(*w);
+  o.height = static_cast<int>(*h);
+  o.fps = *fps;
+  o.trajectory_frames = static_cast<int>(*frames);
+
+  // Block the stop signals before any thread starts, then wait for them here.
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+
+  std::cerr << "rendering " << (o.scene == SimScene::kCorner ? o.trajectory_frames : 2)
+            << " frames...\n";
+  auto cam = SimGvCamera::Start(o);
+  if (!cam) return Fail(cam.error(), kExitFailure);
+  if (const auto truth = args->Get("--truth")) {
+    std::ostringstream os;
+    os << std::setprecision(12);
+    if (o.scene == SimScene::kCorner) {
+      const auto& t = (*cam)->trajectory();
+      for (size_t i = 0; i < t.size(); ++i) {
+        os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
+           << ",\"y\":" << t[i].y_m << ",\"z\":" << t[i].z_m << ",\"pan\":" << t[i].pan_rad
+           << ",\"tilt\":" << t[i].tilt_rad << ",\"swing\":" << t[i].swing_rad << "}\n";
+      }
+    } else {
+      const auto& f = (*cam)->floor_pose();
+      os << "{\"frame_id_mod\":0,\"period\":1,\"height\":" << f.height_m
+         << ",\"pitch\":" << f.pitch_rad << ",\"yaw\":" << f.yaw_rad << ",\"roll\":" << f.roll_rad
+         << "}\n";
+    }
+    if (auto s = WriteFileAtomically(*truth, os.str()); !s) return Fail(s.error(), kExitFailure);
+  }
+  if (const auto cal_out = args->Get("--calibration-out")) {
+    CameraCalibration cal;
+    cal.intrinsics = (*cam)->intrinsics();
+    if (o.scene == SimScene::kCorner) {
+      cal.ceiling_distance_m = (*cam)->trajectory().front().z_m;
+    } else {
+      cal.floor = FloorCalibration{};
+      cal.floor->pose = (*cam)->floor_pose();
+    }
+    if (auto s = SaveCalibrationFileAtomically(*cal_out, cal); !s)
+      return Fail(s.error(), kExitFailure);
+  }
+  std::cerr << "serving simulated GigE Vision camera '" << o.serial << "' on " << o.ip << " ("
+            << o.width << "x" << o.height << " Mono8, " << o.fps << " fps, scene " << scene
+            << "); Ctrl-C stops\n";
+  int signal = 0;
+  sigwait(&stop, &signal);
+  std::cerr << "stopping\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+int CameraCommand(const std::string& command, const std::vector<std::string>& args) {
+  if (command == "cameras") return Cameras(args);
+  if (command == "snapshot") return Snapshot(args);
+  return Simcam(args);
+}
+
+}  // namespace monocle::cli

@@ -1,0 +1,99 @@
+// `monocle simcam` in its own process, `monocle snapshot` and `monocle corner locate` in
+// others: the simulated camera as a user runs it, over the real GigE Vision path.
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <csignal>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "idl/cli_output.pb.h"
+#include "tests/integration/cli_process.h"
+
+namespace monocle {
+namespace {
+
+using testing::RunMonocle;
+using testing::TempDir;
+
+class SimcamProcess {
+ public:
+  explicit SimcamProcess(const TempDir& dir) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      const std::string bin = testing::MonocleBinary();
+      const std::string truth = dir / "truth.jsonl", cal = dir / "sim.pbtxt",
+                        log = dir / "simcam.log";
+      freopen(log.c_str(), "w", stderr);
+      execl(bin.c_str(), bin.c_str(), "simcam", "--scene", "corner", "--width", "640", "--height",
+            "512", "--frames", "4", "--truth", truth.c_str(), "--calibration-out", cal.c_str(),
+            nullptr);
+      _exit(127);
+    }
+  }
+  ~SimcamProcess() { Stop(); }
+  int Stop() {
+    if (pid_ <= 0) return status_;
+    kill(pid_, SIGTERM);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return status_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int status_ = -1;
+};
+
+TEST(SimcamCliTest, SnapshotOfTheSimulatedCameraGivesItsGroundTruthPose) {
+  TempDir dir("monocle_simcam_cli");
+  SimcamProcess simcam(dir);
+  // Wait until the simulator wrote its calibration file (it serves right after).
+  for (int i = 0; i < 100 && !std::ifstream(dir / "sim.pbtxt"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
+  const auto snap = RunMonocle(dir, "snapshot 127.0.0.1 --out " + dir / "snap.png");
+  ASSERT_EQ(snap.exit_code, 0) << snap.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(snap.out, m, std::regex(R"(frame (\d+) 640x512)"))) << snap.out;
+  const uint64_t id = std::stoull(m[1]);
+
+  const auto located = RunMonocle(
+      dir, "corner locate " + dir / "snap.png" + " --calibration " + dir / "sim.pbtxt" + " --json");
+  ASSERT_EQ(located.exit_code, 0) << located.err << located.out;
+  // The truth file: pose i for frame ids with id mod 4 == i.
+  std::ifstream truth(dir / "truth.jsonl");
+  std::string line, wanted;
+  while (std::getline(truth, line)) {
+    if (line.find("\"frame_id_mod\":" + std::to_string(id % 4) + ",") != std::string::npos)
+      wanted = line;
+  }
+  ASSERT_FALSE(wanted.empty());
+  auto number = [](const std::string& json, const std::string& key) {
+    std::smatch n;
+    EXPECT_TRUE(std::regex_search(json, n, std::regex("\"" + key + "\":(-?[0-9.e+-]+)")))
+        << key << " in " << json;
+    return std::stod(n[1]);
+  };
+  proto::CornerOutput got;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(located.out, &got).ok()) << located.out;
+  EXPECT_NEAR(got.x(), number(wanted, "x"), 0.01 * number(wanted, "x"));
+  EXPECT_NEAR(got.y(), number(wanted, "y"), 0.01 * number(wanted, "y"));
+  EXPECT_NEAR(got.tilt(), number(wanted, "tilt"), 0.005);
+  EXPECT_EQ(simcam.Stop(), 0) << "simcam exits cleanly on SIGTERM";
+}
+
+TEST(SimcamCliTest, SnapshotOfAnUnknownCameraSaysSo) {
+  TempDir dir("monocle_snapshot_cli");
+  const auto r = RunMonocle(dir, "snapshot no-such-camera --out " + dir / "x.png");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no camera 'no-such-camera'"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace monocle
