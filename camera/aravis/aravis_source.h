@@ -37,6 +37,8 @@ std::vector<CameraInfo> ListCameras();
 class AravisSource : public FrameSource {
  public:
   // Opens, configures (every value range-checked against the device) and starts streaming.
+  // The ids "sim-corner" and "sim-floor" open in-process simulated cameras (Aravis's fake
+  // device, filled with rendered scenes; `SimulatedScenes()` gives their ground truth).
   static Result<std::unique_ptr<AravisSource>> Open(const AravisOptions& options);
   ~AravisSource() override;
 
@@ -47,6 +49,8 @@ class AravisSource : public FrameSource {
   void MarkUnresponsive() { state_->lost.store(true); }
   uint64_t dropped() const { return dropped_; }
   const CameraInfo& info() const { return info_; }
+  // Ground truth of an in-process simulated camera; null for a real one.
+  const class SimScenes* SimulatedScenes() const { return scenes_.get(); }
 
  private:
   // Shared with the control-lost signal handler and with frames still held by the pipeline.
@@ -54,14 +58,19 @@ class AravisSource : public FrameSource {
     std::atomic<bool> lost{false};
   };
   AravisSource() = default;
+  static Result<std::unique_ptr<AravisSource>> Start(std::unique_ptr<AravisSource> src,
+                                                     const AravisOptions& options);
 
   std::string id_;
   CameraInfo info_;
+  std::shared_ptr<class SimScenes> scenes_;  // in-process simulation: outlives the device
+  GObjectPtr<ArvDevice> fake_device_;
   GObjectPtr<ArvCamera> camera_;
   std::shared_ptr<GObjectPtr<ArvStream>> stream_;
   std::shared_ptr<State> state_ = std::make_shared<State>();
   gulong lost_handler_ = 0;
   uint64_t dropped_ = 0;
+  size_t payload_ = 0;  // bytes per buffer
 };
 
 }  // namespace monocle

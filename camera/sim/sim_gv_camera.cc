@@ -22,14 +22,14 @@ CameraIntrinsics SimIntrinsics(int width, int height) {
   return k;
 }
 
-Result<std::unique_ptr<SimGvCamera>> SimGvCamera::Start(const SimCameraOptions& o) {
+Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > 4096 || o.height > 4096) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "simulated camera size must be 64..4096 pixels each way");
   }
   if (!(o.fps > 0 && o.fps <= 1000))
     return MakeError(ErrorCode::kInvalidArgument, "--fps must be in (0, 1000]");
-  std::unique_ptr<SimGvCamera> cam(new SimGvCamera());
+  std::shared_ptr<SimScenes> cam(new SimScenes());
   cam->options_ = o;
   cam->intrinsics_ = SimIntrinsics(o.width, o.height);
   const int n = std::max(o.trajectory_frames, 1);
@@ -59,34 +59,48 @@ Result<std::unique_ptr<SimGvCamera>> SimGvCamera::Start(const SimCameraOptions& 
       cam->frames_.push_back(RenderFloorScene(cam->intrinsics_, cam->floor_pose_, scene));
     }
   }
+  return cam;
+}
+
+void SimScenes::Attach(ArvFakeCamera* fake) {
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_WIDTH,
+                                 static_cast<guint32>(options_.width));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_HEIGHT,
+                                 static_cast<guint32>(options_.height));
+  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US,
+                                 static_cast<guint32>(std::lround(1e6 / options_.fps)));
+  arv_fake_camera_set_fill_pattern(fake, &SimScenes::Fill, this);
+}
+
+void SimScenes::Detach(ArvFakeCamera* fake) {
+  arv_fake_camera_set_fill_pattern(fake, nullptr, nullptr);
+}
+
+Result<std::unique_ptr<SimGvCamera>> SimGvCamera::Start(const SimCameraOptions& o) {
+  auto scenes = SimScenes::Render(o);
+  if (!scenes) return scenes.error();
+  std::unique_ptr<SimGvCamera> cam(new SimGvCamera());
+  cam->scenes_ = *scenes;
   cam->camera_ =
       GObjectPtr<ArvGvFakeCamera>(arv_gv_fake_camera_new(o.ip.c_str(), o.serial.c_str()));
   if (!cam->camera_ || !arv_gv_fake_camera_is_running(cam->camera_.get())) {
     return MakeError(ErrorCode::kIo, "cannot serve a simulated GigE Vision camera on " + o.ip +
                                          " (is another one already running there? ports 3956/udp)");
   }
-  ArvFakeCamera* fake = arv_gv_fake_camera_get_fake_camera(cam->camera_.get());
-  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_WIDTH,
-                                 static_cast<guint32>(o.width));
-  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_HEIGHT,
-                                 static_cast<guint32>(o.height));
-  arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US,
-                                 static_cast<guint32>(std::lround(1e6 / o.fps)));
-  arv_fake_camera_set_fill_pattern(fake, &SimGvCamera::Fill, cam.get());
+  cam->scenes_->Attach(arv_gv_fake_camera_get_fake_camera(cam->camera_.get()));
   return cam;
 }
 
 SimGvCamera::~SimGvCamera() {
   if (camera_) {
-    // Stop filling from `this` before it goes away, then stop serving.
-    arv_fake_camera_set_fill_pattern(arv_gv_fake_camera_get_fake_camera(camera_.get()), nullptr,
-                                     nullptr);
+    // Stop filling from the scenes before they may go away, then stop serving.
+    SimScenes::Detach(arv_gv_fake_camera_get_fake_camera(camera_.get()));
     camera_.reset();
   }
 }
 
-void SimGvCamera::Fill(ArvBuffer* buffer, void* self_ptr, guint32, guint32, ArvPixelFormat format) {
-  auto* self = static_cast<SimGvCamera*>(self_ptr);
+void SimScenes::Fill(ArvBuffer* buffer, void* self_ptr, guint32, guint32, ArvPixelFormat format) {
+  auto* self = static_cast<SimScenes*>(self_ptr);
   // Inside the fill callback the buffer's data size reads 0 (nothing received yet): size the
   // copy by the image width and height the camera set, which its payload always covers.
   auto* data = static_cast<uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, nullptr)));

@@ -29,10 +29,11 @@ struct SimCameraOptions {
   double noise_sigma = 2;
 };
 
-class SimGvCamera {
+// The rendered frames and ground truth of a simulated camera, and the fill pattern that
+// hands them to an Aravis fake camera.
+class SimScenes {
  public:
-  static Result<std::unique_ptr<SimGvCamera>> Start(const SimCameraOptions& options);
-  ~SimGvCamera();
+  static Result<std::shared_ptr<SimScenes>> Render(const SimCameraOptions& options);
 
   const SimCameraOptions& options() const { return options_; }
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
@@ -44,8 +45,12 @@ class SimGvCamera {
   const FloorPose& floor_pose() const { return floor_pose_; }
   const std::vector<CornerPose>& trajectory() const { return corner_poses_; }
 
+  // Sets `fake`'s size and frame rate and makes it send these frames.
+  void Attach(ArvFakeCamera* fake);
+  static void Detach(ArvFakeCamera* fake);
+
  private:
-  SimGvCamera() = default;
+  SimScenes() = default;
   static void Fill(ArvBuffer* buffer, void* self, guint32, guint32, ArvPixelFormat);
 
   SimCameraOptions options_;
@@ -53,6 +58,26 @@ class SimGvCamera {
   std::vector<cv::Mat> frames_;
   std::vector<CornerPose> corner_poses_;
   FloorPose floor_pose_;
+};
+
+// Served on the network: GigE Vision on a local address.
+class SimGvCamera {
+ public:
+  static Result<std::unique_ptr<SimGvCamera>> Start(const SimCameraOptions& options);
+  ~SimGvCamera();
+
+  const SimCameraOptions& options() const { return scenes_->options(); }
+  const CameraIntrinsics& intrinsics() const { return scenes_->intrinsics(); }
+  const cv::Mat& FrameFor(uint64_t frame_id) const { return scenes_->FrameFor(frame_id); }
+  const CornerPose& CornerPoseFor(uint64_t frame_id) const {
+    return scenes_->CornerPoseFor(frame_id);
+  }
+  const FloorPose& floor_pose() const { return scenes_->floor_pose(); }
+  const std::vector<CornerPose>& trajectory() const { return scenes_->trajectory(); }
+
+ private:
+  SimGvCamera() = default;
+  std::shared_ptr<SimScenes> scenes_;
   GObjectPtr<ArvGvFakeCamera> camera_;
 };
 
