@@ -317,6 +317,15 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Start(std::unique_ptr<Aravis
   if (err.failed() || payload == 0)
     return Fail(ErrorCode::kIo, "cannot read the camera's payload size: " + err.message());
   src->payload_ = payload;
+  // With PTP on (SFNC PtpEnable, or GigE Vision 1.x GevIEEE1588), the camera's timestamps
+  // are a clock shared with the host's network: use them.
+  for (const char* feature : {"PtpEnable", "GevIEEE1588"}) {
+    GErrorSlot probe;
+    if (arv_camera_is_feature_available(cam, feature, probe.out()) && !probe.failed()) {
+      const gboolean on = arv_camera_get_boolean(cam, feature, probe.out());
+      if (!probe.failed() && on) src->ptp_ = true;
+    }
+  }
   for (int i = 0; i < std::max(options.buffers, 2); ++i) {
     arv_stream_push_buffer(src->stream_->get(), arv_buffer_new_allocate(payload));
   }
@@ -362,10 +371,11 @@ Result<Frame> AravisSource::Next(std::chrono::milliseconds timeout) {
     Frame f;
     f.sequence = arv_buffer_get_frame_id(buffer);
     f.camera_id = id_;
-    // Aravis sets the system timestamp on reception; the camera's own timestamp is only a
-    // common clock when PTP runs, which we do not enable: report the host's time.
-    f.capture_time_ns = static_cast<int64_t>(arv_buffer_get_system_timestamp(buffer));
-    f.time_source = TimeSource::kHost;
+    // The camera's own timestamp is a common clock only when PTP runs; otherwise report the
+    // host's time of reception, which Aravis records.
+    f.time_source = ptp_ ? TimeSource::kCamera : TimeSource::kHost;
+    f.capture_time_ns = static_cast<int64_t>(ptp_ ? arv_buffer_get_timestamp(buffer)
+                                                  : arv_buffer_get_system_timestamp(buffer));
     f.device_time_ns = static_cast<int64_t>(arv_buffer_get_timestamp(buffer));
     const bool view = grey->data == arv_buffer_get_image_data(buffer, nullptr);
     f.grey = *grey;

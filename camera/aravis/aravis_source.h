@@ -71,6 +71,7 @@ class AravisSource : public FrameSource {
   gulong lost_handler_ = 0;
   uint64_t dropped_ = 0;
   size_t payload_ = 0;  // bytes per buffer
+  bool ptp_ = false;    // camera clock synchronised by PTP (IEEE 1588)
 };
 
 }  // namespace monocle

@@ -1,13 +1,46 @@
 #include "camera/sim/sim_gv_camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <numbers>
+#include <sstream>
 
 #include "camera/render/corner_renderer.h"
 #include "camera/render/floor_renderer.h"
 
 namespace monocle {
+
+Result<std::vector<CornerPose>> ReadTrajectoryFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return MakeError(ErrorCode::kNotFound, "cannot read trajectory file '" + path + "'");
+  std::vector<CornerPose> out;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos ||
+        line[line.find_first_not_of(" \t")] == '#')
+      continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ss(line);
+    CornerPose p;
+    std::string extra;
+    if (!(ss >> p.x_m >> p.y_m >> p.z_m >> p.pan_rad >> p.tilt_rad >> p.swing_rad) ||
+        (ss >> extra)) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       path + ": line " + std::to_string(number) +
+                           ": expected x,y,z,pan,tilt,swing (metres, radians)");
+    }
+    if (!(p.x_m > 0 && p.y_m > 0 && p.z_m > 0)) {
+      return MakeError(ErrorCode::kOutOfRange,
+                       path + ": line " + std::to_string(number) +
+                           ": the camera must be inside the room (x, y, z > 0)");
+    }
+    out.push_back(p);
+  }
+  if (out.empty()) return MakeError(ErrorCode::kInvalidArgument, path + ": no poses");
+  return out;
+}
 
 CameraIntrinsics SimIntrinsics(int width, int height) {
   const double s = width / 1280.0;
@@ -32,13 +65,14 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   std::shared_ptr<SimScenes> cam(new SimScenes());
   cam->options_ = o;
   cam->intrinsics_ = SimIntrinsics(o.width, o.height);
-  const int n = std::max(o.trajectory_frames, 1);
+  const int n = o.trajectory.empty() ? std::max(o.trajectory_frames, 1)
+                                     : static_cast<int>(o.trajectory.size());
   // A robot driving past the corner, 1.6 m below the ceiling, camera aimed near it.
   for (int i = 0; i < n; ++i) {
     const double t = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
     CornerPose p{1.6 + 1.2 * t, 2.4 - 0.8 * t, 1.6, 0, 0.95 - 0.1 * t, 0.05 * std::sin(6.0 * t)};
     p.pan_rad = std::atan2(p.x_m, -p.y_m) + 0.08 * std::cos(5.0 * t);
-    cam->corner_poses_.push_back(p);
+    cam->corner_poses_.push_back(o.trajectory.empty() ? p : o.trajectory[i]);
   }
   cam->floor_pose_ = FloorPose{1.05, 2.0595, 0.0698, 0.0262};
   for (int i = 0; i < (o.scene == SimScene::kCorner ? n : 2); ++i) {

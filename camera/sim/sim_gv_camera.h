@@ -27,7 +27,13 @@ struct SimCameraOptions {
   double fps = 30;
   int trajectory_frames = 16;  // distinct poses; frame id k shows pose k mod this
   double noise_sigma = 2;
+  // Corner scene: poses to drive through instead of the built-in trajectory.
+  std::vector<CornerPose> trajectory;
 };
+
+// Reads a trajectory file: one pose a line, "x,y,z,pan,tilt,swing" (metres, radians, the
+// corner frame of `monocle corner locate`); blank lines and lines starting with # skipped.
+Result<std::vector<CornerPose>> ReadTrajectoryFile(const std::string& path);
 
 // The rendered frames and ground truth of a simulated camera, and the fill pattern that
 // hands them to an Aravis fake camera.

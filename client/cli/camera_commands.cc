@@ -30,11 +30,20 @@ and writes it as 8-bit grey (Mono16, Bayer and RGB frames are converted).
 
   --pixel-format F  GenICam pixel format to request (default Mono8)
   --timeout MS      how long to wait for a frame, milliseconds (default 3000)
+  --exposure US     exposure time, microseconds
+  --gain DB         gain, dB
+  --fps HZ          frame rate, Hz
+  --region X,Y,W,H  region of interest, pixels
+  --packet-size B   GigE Vision packet size, bytes; --packet-delay T inter-packet delay, ticks
+  --feature N=V     any other GenICam feature by name (repeatable)
+Every value is checked against the camera's range first; the error names the feature.
+The ids sim-corner and sim-floor are built-in simulated cameras.
 )";
 
 constexpr const char* kSimcamHelp =
     R"(Usage: monocle simcam --scene corner|floor [--ip 127.0.0.1] [--serial S] [--width W --height H]
-                      [--fps F] [--frames N] [--truth FILE] [--calibration-out CAL.pbtxt]
+                      [--fps F] [--frames N] [--trajectory FILE] [--truth FILE]
+                      [--calibration-out CAL.pbtxt]
 
 Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
 frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
@@ -45,7 +54,9 @@ the floor. Runs until Ctrl-C (SIGINT) or SIGTERM.
   --serial S          serial number (default MONOCLE-SIM)
   --width/--height    image size, pixels (default 1280x1024)
   --fps F             frame rate, Hz (default 30)
-  --frames N          poses on the trajectory (default 16)
+  --frames N          poses on the built-in trajectory (default 16)
+  --trajectory FILE   corner poses to drive through instead, one a line:
+                      x,y,z,pan,tilt,swing (metres, radians, corner frame)
   --truth FILE        write the ground truth: one JSON object per pose, keyed by
                       frame id modulo N (corner: x y z pan tilt swing; floor: height
                       pitch yaw roll)
@@ -86,7 +97,10 @@ int Snapshot(const std::vector<std::string>& argv) {
     std::cout << kSnapshotHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--out", "--pixel-format", "--timeout"}, {}});
+  auto args =
+      Args::Parse(argv, {{"--out", "--pixel-format", "--timeout", "--exposure", "--gain", "--fps",
+                          "--region", "--packet-size", "--packet-delay", "--feature"},
+                         {}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->positionals().size() != 1)
     return Fail("snapshot takes one CAMERA (see --help)", kExitUsage);
@@ -98,6 +112,35 @@ int Snapshot(const std::vector<std::string>& argv) {
   AravisOptions options;
   options.device = args->positionals()[0];
   options.pixel_format = args->Get("--pixel-format").value_or("Mono8");
+  for (const auto& [flag, field] :
+       {std::pair{"--exposure", &options.exposure_us}, std::pair{"--gain", &options.gain},
+        std::pair{"--fps", &options.frame_rate_hz}}) {
+    if (!args->Get(flag)) continue;
+    const auto v = args->GetDouble(flag, 0);
+    if (!v) return Fail(v.error(), kExitUsage);
+    *field = *v;
+  }
+  for (const auto& [flag, field] :
+       {std::pair{"--packet-size", &options.packet_size_bytes},
+        std::pair{"--packet-delay", &options.inter_packet_delay_ticks}}) {
+    if (!args->Get(flag)) continue;
+    const auto v = args->GetDouble(flag, 0);
+    if (!v || *v < 0) return Fail(std::string(flag) + " must be a whole number >= 0", kExitUsage);
+    *field = static_cast<int>(*v);
+  }
+  if (const auto region = args->Get("--region")) {
+    const auto v = ParseNumberList(*region);
+    if (!v || v->size() != 4)
+      return Fail("--region '" + *region + "' is not X,Y,W,H in pixels", kExitUsage);
+    options.region = std::array<int, 4>{static_cast<int>((*v)[0]), static_cast<int>((*v)[1]),
+                                        static_cast<int>((*v)[2]), static_cast<int>((*v)[3])};
+  }
+  for (const auto& f : args->GetAll("--feature")) {
+    const auto eq = f.find('=');
+    if (eq == std::string::npos || eq == 0)
+      return Fail("--feature '" + f + "' is not NAME=VALUE", kExitUsage);
+    options.features.emplace_back(f.substr(0, eq), f.substr(eq + 1));
+  }
   auto source = AravisSource::Open(options);
   if (!source) return Fail(source.error(), kExitFailure);
   const auto frame = (*source)->Next(std::chrono::milliseconds(static_cast<int64_t>(*timeout)));
@@ -118,12 +161,6 @@ int Simcam(const std::vector<std::string>& argv) {
                                   "--frames", "--truth", "--calibration-out", "--trajectory"},
                                  {}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (args->Has("--trajectory")) {
-    return Fail(
-        "--trajectory FILE is not supported yet; the corner scene drives a built-in trajectory "
-        "(--frames sets its length)",
-        kExitUsage);
-  }
   SimCameraOptions o;
   const std::string scene = args->Get("--scene").value_or("");
   if (scene != "corner" && scene != "floor")
@@ -140,6 +177,11 @@ int Simcam(const std::vector<std::string>& argv) {
   o.height = static_cast<int>(*h);
   o.fps = *fps;
   o.trajectory_frames = static_cast<int>(*frames);
+  if (const auto file = args->Get("--trajectory")) {
+    auto poses = ReadTrajectoryFile(*file);
+    if (!poses) return Fail(poses.error(), kExitUsage);
+    o.trajectory = *poses;
+  }
 
   // Block the stop signals before any thread starts, then wait for them here.
   sigset_t stop;
