@@ -190,8 +190,9 @@ int Simcam(const std::vector<std::string>& argv) {
   sigaddset(&stop, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop, nullptr);
 
-  std::cerr << "rendering " << (o.scene == SimScene::kCorner ? o.trajectory_frames : 2)
-            << " frames...\n";
+  const size_t poses =
+      o.trajectory.empty() ? static_cast<size_t>(o.trajectory_frames) : o.trajectory.size();
+  std::cerr << "rendering " << (o.scene == SimScene::kCorner ? poses : 2) << " frames...\n";
   auto cam = SimGvCamera::Start(o);
   if (!cam) return Fail(cam.error(), kExitFailure);
   if (const auto truth = args->Get("--truth")) {
