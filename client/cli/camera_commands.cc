@@ -145,7 +145,8 @@ int Snapshot(const std::vector<std::string>& argv) {
   if (!source) return Fail(source.error(), kExitFailure);
   const auto frame = (*source)->Next(std::chrono::milliseconds(static_cast<int64_t>(*timeout)));
   if (!frame) return Fail(frame.error(), kExitFailure);
-  if (!cv::imwrite(*out, frame->grey)) return Fail("cannot write '" + *out + "'", kExitFailure);
+  if (auto written = WriteImage(*out, frame->grey); !written)
+    return Fail(written.error(), kExitFailure);
   std::cout << "frame " << frame->sequence << " " << frame->grey.cols << "x" << frame->grey.rows
             << " from " << (*source)->info().vendor << " " << (*source)->info().model
             << " written to " << *out << "\n";

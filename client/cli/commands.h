@@ -31,6 +31,9 @@ int Fail(const Error& error, int status);
 // Reads an image as 8-bit grey, with a clear error if the file is missing or unreadable.
 Result<cv::Mat> ReadGreyImage(const std::string& path);
 
+// Writes an image in the format its extension names, with a clear error.
+Status WriteImage(const std::string& path, const cv::Mat& image);
+
 // One-line JSON of a protobuf message, keys as in the .proto.
 std::string ToJson(const google::protobuf::Message& message);
 

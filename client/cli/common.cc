@@ -30,6 +30,16 @@ Result<cv::Mat> ReadGreyImage(const std::string& path) {
   return image;
 }
 
+Status WriteImage(const std::string& path, const cv::Mat& image) {
+  try {
+    if (cv::imwrite(path, image)) return Ok{};
+  } catch (const cv::Exception& e) {
+    return MakeError(ErrorCode::kIo, "cannot write '" + path + "': " + e.what());
+  }
+  return MakeError(ErrorCode::kIo,
+                   "cannot write '" + path + "' (unknown extension or unwritable folder)");
+}
+
 std::string ToJson(const google::protobuf::Message& message) {
   google::protobuf::util::JsonPrintOptions options;
   options.always_print_primitive_fields = true;

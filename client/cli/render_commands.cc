@@ -81,15 +81,8 @@ int RenderCorner(const std::vector<std::string>& argv) {
   scene.room_height_m = std::max(scene.room_height_m, (*v)[2] + 0.3);
   const CornerPose pose{(*v)[0], (*v)[1], (*v)[2], (*v)[3], (*v)[4], (*v)[5]};
   const cv::Mat image = RenderCornerScene(calibration->intrinsics, pose, scene);
-  bool written = false;
-  try {
-    written = cv::imwrite(*out_path, image);
-  } catch (const cv::Exception& e) {
-    return Fail("cannot write '" + *out_path + "': " + e.what(), kExitFailure);
-  }
-  if (!written)
-    return Fail("cannot write '" + *out_path + "' (unknown extension or unwritable folder)",
-                kExitFailure);
+  if (auto written = WriteImage(*out_path, image); !written)
+    return Fail(written.error(), kExitFailure);
   return kExitOk;
 }
 
@@ -151,15 +144,8 @@ int RenderCommand(const std::vector<std::string>& argv) {
     scene.boxes.push_back(FloorBox{{(*v)[0], (*v)[1]}, {(*v)[2], (*v)[3]}, (*v)[4]});
   }
   const cv::Mat image = RenderFloorScene(calibration->intrinsics, pose, scene);
-  bool written = false;
-  try {
-    written = cv::imwrite(*out_path, image);
-  } catch (const cv::Exception& e) {
-    return Fail("cannot write '" + *out_path + "': " + e.what(), kExitFailure);
-  }
-  if (!written)
-    return Fail("cannot write '" + *out_path + "' (unknown extension or unwritable folder)",
-                kExitFailure);
+  if (auto written = WriteImage(*out_path, image); !written)
+    return Fail(written.error(), kExitFailure);
   return kExitOk;
 }
 

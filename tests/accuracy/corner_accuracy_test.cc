@@ -27,10 +27,11 @@ struct Stats {
   }
   void Print(const char* name) const {
     std::cout << std::setprecision(3) << name << ": pose for " << located << "/" << images
-              << " images; horizontal error median " << 100 * Percentile(horizontal_rel, 0.5) << " %, p95 "
-              << 100 * Percentile(horizontal_rel, 0.95) << " % of the distance; tilt median "
-              << Percentile(tilt_deg, 0.5) << " deg, p95 " << Percentile(tilt_deg, 0.95) << " deg; pan median "
-              << Percentile(pan_deg, 0.5) << " deg; swing median " << Percentile(swing_deg, 0.5) << " deg\n";
+              << " images; horizontal error median " << 100 * Percentile(horizontal_rel, 0.5)
+              << " %, p95 " << 100 * Percentile(horizontal_rel, 0.95)
+              << " % of the distance; tilt median " << Percentile(tilt_deg, 0.5) << " deg, p95 "
+              << Percentile(tilt_deg, 0.95) << " deg; pan median " << Percentile(pan_deg, 0.5)
+              << " deg; swing median " << Percentile(swing_deg, 0.5) << " deg\n";
   }
 };
 
@@ -58,11 +59,15 @@ Stats RenderAndLocate(int count, uint64_t seed, bool clutter, bool lighting) {
     const Eigen::Vector2d t(truth->x_m, truth->y_m), g(got->pose.x_m, got->pose.y_m);
     const double rel = (g - t).norm() / t.norm();
     stats.horizontal_rel.push_back(rel);
-    auto deg = [](double a, double b) { return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * 180 / std::numbers::pi; };
+    auto deg = [](double a, double b) {
+      return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * 180 / std::numbers::pi;
+    };
     stats.tilt_deg.push_back(deg(got->pose.tilt_rad, truth->tilt_rad));
     stats.pan_deg.push_back(deg(got->pose.pan_rad, truth->pan_rad));
     stats.swing_deg.push_back(deg(got->pose.swing_rad, truth->swing_rad));
-    if (rel > 0.05) std::cout << "large error " << 100 * rel << " %: truth " << *truth << " got " << got->pose << "\n";
+    if (rel > 0.05)
+      std::cout << "large error " << 100 * rel << " %: truth " << *truth << " got " << got->pose
+                << "\n";
   }
   return stats;
 }
