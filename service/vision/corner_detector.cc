@@ -82,14 +82,18 @@ struct HoughPeak {
 // Hough transform in (alpha, rho), each edge voting only near its gradient's direction;
 // peaks of the smoothed counts H'(a, r) = H(a, r - 1) + H(a, r) + H(a, r + 1).
 std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, int h, int min_votes,
-                                  int max_peaks, std::array<double, kAngleBins>* cos_table,
-                                  std::array<double, kAngleBins>* sin_table, int* rho_offset) {
-  for (int a = 0; a < kAngleBins; ++a) {
-    (*cos_table)[a] = std::cos(a * kPi / kAngleBins);
-    (*sin_table)[a] = std::sin(a * kPi / kAngleBins);
-  }
+                                  int max_peaks) {
+  static const auto tables = [] {
+    std::array<std::array<double, kAngleBins>, 2> t;
+    for (int a = 0; a < kAngleBins; ++a) {
+      t[0][a] = std::cos(a * kPi / kAngleBins);
+      t[1][a] = std::sin(a * kPi / kAngleBins);
+    }
+    return t;
+  }();
+  const auto* cos_table = &tables[0];
+  const auto* sin_table = &tables[1];
   const int d = static_cast<int>(std::ceil(std::hypot(w, h))) + 2;
-  *rho_offset = d;
   const int rho_bins = 2 * d + 1;
   // 16-bit counts: half the memory to clear each frame; a line has far fewer than 65535 votes.
   std::vector<uint16_t> acc(static_cast<size_t>(kAngleBins) * rho_bins, 0);
@@ -427,12 +431,9 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
     }
   }
   const double min_length = options.min_edge_length_px * out.scale;
-  std::array<double, kAngleBins> cos_table, sin_table;
-  int rho_offset = 0;
   // Undistorted points may leave the frame a little: size the accumulator for 1.25x.
   const auto peaks = HoughPeaks(edges, out.small.cols * 5 / 4, out.small.rows * 5 / 4,
-                                static_cast<int>(min_length), options.max_lines, &cos_table,
-                                &sin_table, &rho_offset);
+                                static_cast<int>(min_length), options.max_lines);
   // Edges bucketed by gradient direction (1 degree, modulo 180): a line only looks at the
   // edges within the 12 degrees its support test accepts.
   std::array<std::vector<const EdgePixel*>, 180> buckets;
