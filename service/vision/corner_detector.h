@@ -19,7 +19,7 @@ namespace monocle {
 
 struct CornerDetectorOptions {
   double edge_threshold = 32;  // Sobel magnitude (3x3) at half resolution; ~10 grey levels of step
-  int max_lines = 24;          // Hough peaks considered
+  int max_lines = 40;          // Hough peaks considered
   double min_edge_length_px = 60;  // shortest corner edge, full resolution
   double junction_radius_px = 12;  // how far apart the pairwise intersections may be
   double min_step_grey = 4;        // weakest edge contrast measured at full resolution
