@@ -1,4 +1,6 @@
 // monocle corner locate (offline: images and a calibration file).
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -11,6 +13,8 @@
 #include "client/cli/commands.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
+#include "service/server/dds.h"
+#include "service/server/pose_messages.h"
 #include "service/vision/corner_locator.h"
 
 namespace monocle::cli {
@@ -34,6 +38,14 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
   --json                   one JSON object per line: image x y z pan tilt swing
                            quaternion corner_px rms_px sigma lines, or image error
   --overlay DIR            write DIR/<image>.overlay.png with the edges, corner and pose
+
+Live, from the running service (monocled) over DDS, instead of IMAGE files:
+  --camera ID              the camera's poses as monocled publishes them (same JSON as
+                           above, inside {camera, sequence, capture_time_ns, time_source,
+                           pose})
+  --count N                stop after N poses (default 1); --follow: until Ctrl-C
+  --domain D               DDS domain id (default 0); --timeout S: give up after S seconds
+                           without a pose (default 10)
 
 Any image OpenCV reads (PNG, PGM, JPEG, ...). An image without a corner is reported and
 the others are still processed; the exit status is 1 if any image failed.
@@ -119,21 +131,93 @@ proto::CornerOutput ToOutput(const std::string& image, const Result<CornerLocati
   return out;
 }
 
+// Poses of a camera of the running service, over DDS.
+int LocateLive(const Args& args) {
+  const std::string camera = *args.Get("--camera");
+  const auto count = args.GetDouble("--count", 1);
+  const auto domain = args.GetDouble("--domain", 0);
+  const auto timeout_s = args.GetDouble("--timeout", 10);
+  if (!count || *count < 1 || !domain || *domain < 0 || !timeout_s || *timeout_s <= 0) {
+    return Fail("--count must be >= 1, --domain >= 0, --timeout > 0 seconds", kExitUsage);
+  }
+  const bool follow = args.Has("--follow");
+  auto endpoint = dds::Endpoint<monocle_dds_CornerPose>::Open(
+      static_cast<dds_domainid_t>(*domain), &monocle_dds_CornerPose_desc, dds::kPoseTopic,
+      /*writer=*/false, /*reader=*/true,
+      /*keep_last_per_key=*/false);
+  if (!endpoint) return Fail(endpoint.error(), kExitFailure);
+  int printed = 0;
+  auto last = std::chrono::steady_clock::now();
+  while (follow || printed < *count) {
+    auto samples = endpoint->Take<proto::LivePoseOutput>(
+        std::chrono::milliseconds(200), [](const monocle_dds_CornerPose& s) {
+          proto::LivePoseOutput out;
+          out.set_camera(s.camera_id);
+          out.set_sequence(s.frame_sequence);
+          out.set_capture_time_ns(s.capture_time_ns);
+          out.set_time_source(s.time_source == 1 ? "camera" : "host");
+          auto* p = out.mutable_pose();
+          if (s.status != 0) {
+            p->set_error(s.error);
+            return out;
+          }
+          p->set_x(s.x);
+          p->set_y(s.y);
+          p->set_z(s.z);
+          p->set_pan(s.pan);
+          p->set_tilt(s.tilt);
+          p->set_swing(s.swing);
+          for (double q : s.quaternion) p->add_quaternion(q);
+          p->add_corner_px(s.corner_px[0]);
+          p->add_corner_px(s.corner_px[1]);
+          p->set_rms_px(s.rms_px);
+          auto* sigma = p->mutable_sigma();
+          sigma->set_x(std::sqrt(s.covariance[0]));
+          sigma->set_y(std::sqrt(s.covariance[6]));
+          sigma->set_pan(std::sqrt(s.covariance[12]));
+          sigma->set_tilt(std::sqrt(s.covariance[18]));
+          sigma->set_swing(std::sqrt(s.covariance[24]));
+          return out;
+        });
+    if (!samples) return Fail(samples.error(), kExitFailure);
+    for (const auto& out : *samples) {
+      if (out.camera() != camera) continue;
+      last = std::chrono::steady_clock::now();
+      if (args.Has("--json")) {
+        std::cout << ToJson(out) << std::endl;
+      } else if (out.pose().has_error()) {
+        std::cout << camera << " frame " << out.sequence() << "  error: " << out.pose().error()
+                  << std::endl;
+      } else {
+        const auto& p = out.pose();
+        std::cout << std::fixed << std::setprecision(4) << camera << " frame " << out.sequence()
+                  << "  x=" << p.x() << " y=" << p.y() << " z=" << p.z() << " m  pan=" << p.pan()
+                  << " tilt=" << p.tilt() << " swing=" << p.swing() << " rad  rms "
+                  << std::setprecision(3) << p.rms_px() << " px" << std::endl;
+      }
+      if (!follow && ++printed >= *count) break;
+    }
+    if (std::chrono::steady_clock::now() - last > std::chrono::duration<double>(*timeout_s)) {
+      return Fail("no pose from camera '" + camera + "' on DDS domain " +
+                      std::to_string(static_cast<int>(*domain)) + " within " +
+                      std::to_string(static_cast<int>(*timeout_s)) +
+                      " s: is monocled running with that camera and domain?",
+                  kExitFailure);
+    }
+  }
+  return kExitOk;
+}
+
 int Locate(const std::vector<std::string>& argv) {
   if (WantsHelp(argv)) {
     std::cout << kLocateHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(
-      argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera", "--count"},
-             {"--json", "--follow"}});
+  auto args = Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera",
+                                  "--count", "--domain", "--timeout"},
+                                 {"--json", "--follow"}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (args->Has("--camera")) {
-    return Fail(
-        "--camera needs the monocle service, which this build does not include yet; give IMAGE "
-        "files",
-        kExitUsage);
-  }
+  if (args->Has("--camera")) return LocateLive(*args);
   if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);

@@ -1,0 +1,119 @@
+// RAII over the Cyclone DDS C API: one owner per dds_entity_t, deleted in the destructor
+// (which never throws); return codes turned into the project's Error in one place.
+#pragma once
+
+#include <dds/dds.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "service/common/result.h"
+
+namespace monocle::dds {
+
+// The monocle topic names.
+inline constexpr const char* kPoseTopic = "monocle/pose";
+
+Error DdsError(const std::string& what, dds_return_t rc);
+
+class Entity {
+ public:
+  Entity() = default;
+  explicit Entity(dds_entity_t e) : e_(e) {}
+  ~Entity() {
+    if (e_ > 0) dds_delete(e_);
+  }
+  Entity(Entity&& o) noexcept : e_(std::exchange(o.e_, 0)) {}
+  Entity& operator=(Entity&& o) noexcept {
+    if (this != &o) {
+      if (e_ > 0) dds_delete(e_);
+      e_ = std::exchange(o.e_, 0);
+    }
+    return *this;
+  }
+  Entity(const Entity&) = delete;
+  Entity& operator=(const Entity&) = delete;
+  dds_entity_t get() const { return e_; }
+
+ private:
+  dds_entity_t e_ = 0;
+};
+
+// A participant with one topic of type T and, as asked, a writer and/or a reader.
+template <typename T>
+class Endpoint {
+ public:
+  static Result<Endpoint> Open(dds_domainid_t domain, const dds_topic_descriptor_t* type,
+                               const char* topic_name, bool writer, bool reader,
+                               bool keep_last_per_key) {
+    Endpoint ep;
+    ep.participant_ = Entity(dds_create_participant(domain, nullptr, nullptr));
+    if (ep.participant_.get() < 0)
+      return DdsError("cannot create a DDS participant", ep.participant_.get());
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    // A slow subscriber must never stall the publisher: keep only the latest samples.
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, keep_last_per_key ? 1 : 16);
+    const dds_entity_t topic =
+        dds_create_topic(ep.participant_.get(), type, topic_name, qos, nullptr);
+    if (topic < 0) {
+      dds_delete_qos(qos);
+      return DdsError(std::string("cannot create topic ") + topic_name, topic);
+    }
+    if (writer) {
+      ep.writer_ = Entity(dds_create_writer(ep.participant_.get(), topic, qos, nullptr));
+      if (ep.writer_.get() < 0) {
+        dds_delete_qos(qos);
+        return DdsError("cannot create a DDS writer", ep.writer_.get());
+      }
+    }
+    if (reader) {
+      ep.reader_ = Entity(dds_create_reader(ep.participant_.get(), topic, qos, nullptr));
+      if (ep.reader_.get() < 0) {
+        dds_delete_qos(qos);
+        return DdsError("cannot create a DDS reader", ep.reader_.get());
+      }
+    }
+    dds_delete_qos(qos);
+    return ep;
+  }
+
+  Status Write(const T& sample) {
+    const dds_return_t rc = dds_write(writer_.get(), &sample);
+    if (rc < 0) return DdsError("cannot publish", rc);
+    return Ok{};
+  }
+
+  // Waits up to `timeout` for samples; returns those taken (valid data only). `copy` turns
+  // the loaned C sample into the caller's type before the loan is returned.
+  template <typename Out, typename Copy>
+  Result<std::vector<Out>> Take(std::chrono::milliseconds timeout, Copy copy) {
+    std::vector<Out> out;
+    Entity waitset(dds_create_waitset(participant_.get()));
+    const dds_entity_t cond = dds_create_readcondition(reader_.get(), DDS_ANY_STATE);
+    dds_waitset_attach(waitset.get(), cond, 0);
+    const dds_return_t rc = dds_waitset_wait(
+        waitset.get(), nullptr, 0,
+        DDS_MSECS(std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count()));
+    dds_delete(cond);
+    if (rc < 0) return DdsError("waiting for samples failed", rc);
+    constexpr int kMax = 16;
+    void* samples[kMax] = {};
+    dds_sample_info_t infos[kMax];
+    const dds_return_t n = dds_take(reader_.get(), samples, infos, kMax, kMax);
+    if (n < 0) return DdsError("cannot take samples", n);
+    for (int i = 0; i < n; ++i) {
+      if (infos[i].valid_data) out.push_back(copy(*static_cast<const T*>(samples[i])));
+    }
+    dds_return_loan(reader_.get(), samples, n);
+    return out;
+  }
+
+ private:
+  Entity participant_, writer_, reader_;
+};
+
+}  // namespace monocle::dds
