@@ -2,11 +2,14 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace monocle::testing {
 
@@ -55,5 +58,41 @@ inline ProcessResult RunMonocle(const TempDir& dir, const std::string& args) {
   r.err = ReadFile(err);
   return r;
 }
+
+// A long-running program (a service, a simulated camera) in its own process, its stderr in
+// `log`; stopped with SIGTERM as a user's Ctrl-C would.
+class ChildProcess {
+ public:
+  ChildProcess(const std::string& binary, const std::vector<std::string>& args,
+               const std::string& log) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      if (freopen(log.c_str(), "w", stderr) == nullptr) _exit(126);
+      std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(binary.c_str(), argv.data());
+      _exit(127);
+    }
+  }
+  ~ChildProcess() { Stop(); }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  // Its exit status (-1 if it did not exit normally).
+  int Stop() {
+    if (pid_ <= 0) return status_;
+    kill(pid_, SIGTERM);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return status_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int status_ = -1;
+};
 
 }  // namespace monocle::testing

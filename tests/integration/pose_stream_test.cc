@@ -3,9 +3,6 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-#include <csignal>
 #include <cstdlib>
 #include <sstream>
 
@@ -26,40 +23,13 @@ std::string Monocled() {
   return bin.substr(0, bin.rfind("/client/")) + "/service/monocled";
 }
 
-class MonocledProcess {
- public:
-  explicit MonocledProcess(const TempDir& dir) {
-    pid_ = fork();
-    if (pid_ == 0) {
-      const std::string log = dir / "monocled.log";
-      freopen(log.c_str(), "w", stderr);
-      const std::string bin = Monocled();
-      execl(bin.c_str(), bin.c_str(), "--camera", "sim-corner", "--domain", kDomain, nullptr);
-      _exit(127);
-    }
-  }
-  int Stop() {
-    if (pid_ <= 0) return status_;
-    kill(pid_, SIGTERM);
-    int status = 0;
-    waitpid(pid_, &status, 0);
-    pid_ = -1;
-    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return status_;
-  }
-  ~MonocledProcess() { Stop(); }
-
- private:
-  pid_t pid_ = -1;
-  int status_ = -1;
-};
-
 TEST(PoseStreamTest, PosesOverDdsAgreeWithTheSimulatorsGroundTruth) {
   TempDir dir("monocle_pose_stream");
   // Discovery over loopback only, no multicast needed (docker/cyclonedds-loopback.xml).
   const std::string config = std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml";
   setenv("CYCLONEDDS_URI", ("file://" + config).c_str(), 1);
-  MonocledProcess monocled(dir);
+  testing::ChildProcess monocled(Monocled(), {"--camera", "sim-corner", "--domain", kDomain},
+                                 dir / "monocled.log");
   const auto r = RunMonocle(
       dir,
       std::string("corner locate --camera sim-corner --count 5 --json --timeout 30 --domain ") +

@@ -3,9 +3,6 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <unistd.h>
-#include <csignal>
 #include <fstream>
 #include <regex>
 #include <thread>
@@ -19,40 +16,13 @@ namespace {
 using testing::RunMonocle;
 using testing::TempDir;
 
-class SimcamProcess {
- public:
-  explicit SimcamProcess(const TempDir& dir) {
-    pid_ = fork();
-    if (pid_ == 0) {
-      const std::string bin = testing::MonocleBinary();
-      const std::string truth = dir / "truth.jsonl", cal = dir / "sim.pbtxt",
-                        log = dir / "simcam.log";
-      freopen(log.c_str(), "w", stderr);
-      execl(bin.c_str(), bin.c_str(), "simcam", "--scene", "corner", "--width", "640", "--height",
-            "512", "--frames", "4", "--truth", truth.c_str(), "--calibration-out", cal.c_str(),
-            nullptr);
-      _exit(127);
-    }
-  }
-  ~SimcamProcess() { Stop(); }
-  int Stop() {
-    if (pid_ <= 0) return status_;
-    kill(pid_, SIGTERM);
-    int status = 0;
-    waitpid(pid_, &status, 0);
-    pid_ = -1;
-    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return status_;
-  }
-
- private:
-  pid_t pid_ = -1;
-  int status_ = -1;
-};
-
 TEST(SimcamCliTest, SnapshotOfTheSimulatedCameraGivesItsGroundTruthPose) {
   TempDir dir("monocle_simcam_cli");
-  SimcamProcess simcam(dir);
+  testing::ChildProcess simcam(
+      testing::MonocleBinary(),
+      {"simcam", "--scene", "corner", "--width", "640", "--height", "512", "--frames", "4",
+       "--truth", dir / "truth.jsonl", "--calibration-out", dir / "sim.pbtxt"},
+      dir / "simcam.log");
   // Wait until the simulator wrote its calibration file (it serves right after).
   for (int i = 0; i < 100 && !std::ifstream(dir / "sim.pbtxt"); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
