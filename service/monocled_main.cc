@@ -16,7 +16,11 @@
 #include "camera/sim/sim_gv_camera.h"
 #include "service/io/calibration_file.h"
 #include "service/server/dds.h"
+#include "service/server/point_queries.h"
 #include "service/server/pose_messages.h"
+
+#include <deque>
+#include <map>
 
 namespace {
 
@@ -32,6 +36,10 @@ per processed frame (the corner frame and units of `monocle corner locate`).
                          sim-corner)
   --ceiling-distance Z   camera to ceiling, metres (overrides the file)
   --domain D             DDS domain id (default 0); CYCLONEDDS_URI configures Cyclone DDS
+  --floor-camera ID      answers point queries (topics monocle/point_request and
+                         monocle/point_reply) for this floor camera (default sim-floor)
+  --floor-calibration F  its calibration file, with a floor section (for sim-floor the
+                         simulator's own calibration is used when none is given)
 
 SIGINT or SIGTERM stop it cleanly.
 )";
@@ -47,7 +55,8 @@ struct LatestFrame {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string camera = "sim-corner", calibration_path;
+  std::string camera = "sim-corner", calibration_path, floor_camera = "sim-floor",
+              floor_calibration_path;
   std::optional<double> ceiling;
   int domain = 0;
   for (int i = 1; i < argc; ++i) {
@@ -68,6 +77,10 @@ int main(int argc, char** argv) {
       calibration_path = value();
     } else if (a == "--ceiling-distance") {
       ceiling = std::atof(value().c_str());
+    } else if (a == "--floor-camera") {
+      floor_camera = value();
+    } else if (a == "--floor-calibration") {
+      floor_calibration_path = value();
     } else if (a == "--domain") {
       domain = std::atoi(value().c_str());
     } else {
@@ -115,10 +128,40 @@ int main(int argc, char** argv) {
   }
   auto endpoint = monocle::dds::Endpoint<monocle_dds_CornerPose>::Open(
       domain, &monocle_dds_CornerPose_desc, monocle::dds::kPoseTopic, /*writer=*/true,
-      /*reader=*/false,
-      /*keep_last_per_key=*/true);
+      /*reader=*/false, monocle::dds::EndpointQos{1, false});
   if (!endpoint) {
     std::cerr << "monocled: error: " << endpoint.error() << "\n";
+    return 1;
+  }
+
+  // Point queries: need only the floor camera's calibration.
+  std::map<std::string, monocle::CameraCalibration> floor_cameras;
+  if (!floor_calibration_path.empty()) {
+    auto cal = monocle::LoadCalibrationFile(floor_calibration_path);
+    if (!cal) {
+      std::cerr << "monocled: error: " << cal.error() << "\n";
+      return 1;
+    }
+    if (!cal->floor) {
+      std::cerr << "monocled: error: " << floor_calibration_path << " has no floor section\n";
+      return 1;
+    }
+    floor_cameras[floor_camera] = *cal;
+  } else if (floor_camera == "sim-floor") {
+    monocle::CameraCalibration cal;
+    cal.intrinsics = monocle::SimIntrinsics(1280, 1024);
+    cal.floor = monocle::FloorCalibration{};
+    cal.floor->pose = monocle::SimFloorPose();
+    floor_cameras[floor_camera] = cal;
+  }
+  auto requests = monocle::dds::Endpoint<monocle_dds_PointRequest>::Open(
+      domain, &monocle_dds_PointRequest_desc, monocle::dds::kPointRequestTopic, false, true,
+      monocle::dds::EndpointQos{64, false});
+  auto replies = monocle::dds::Endpoint<monocle_dds_PointReply>::Open(
+      domain, &monocle_dds_PointReply_desc, monocle::dds::kPointReplyTopic, true, false,
+      monocle::dds::EndpointQos{1, true});
+  if (!requests || !replies) {
+    std::cerr << "monocled: error: " << (!requests ? requests.error() : replies.error()) << "\n";
     return 1;
   }
 
@@ -164,6 +207,70 @@ int main(int argc, char** argv) {
       if (auto s = endpoint->Write(sample); !s) std::cerr << "monocled: " << s.error() << "\n";
     }
   });
+  struct Request {
+    std::string client_id, camera_id;
+    uint64_t request_id = 0;
+    double sigma = 0;
+    std::vector<monocle::PixelPair> points;
+  };
+  std::thread queries([&] {
+    std::deque<std::pair<std::string, uint64_t>> answered;  // replies kept for late readers
+    while (true) {
+      {
+        std::lock_guard<std::mutex> lock(latest.mutex);
+        if (latest.stop) return;
+      }
+      auto taken = requests->Take<Request>(
+          std::chrono::milliseconds(200), [](const monocle_dds_PointRequest& r) {
+            Request out{r.client_id != nullptr ? r.client_id : "",
+                        r.camera_id != nullptr ? r.camera_id : "",
+                        r.request_id,
+                        r.pixel_sigma_px,
+                        {}};
+            out.points.reserve(r.points._length);
+            for (uint32_t i = 0; i < r.points._length; ++i) {
+              const auto& q = r.points._buffer[i];
+              out.points.push_back({q.u, q.v, q.paired, q.floor_u, q.floor_v});
+            }
+            return out;
+          });
+      if (!taken) continue;
+      for (const auto& r : *taken) {
+        const auto answer =
+            monocle::AnswerPointRequest(floor_cameras, r.camera_id, r.points, r.sigma);
+        std::vector<monocle_dds_PointResult> results(answer.points.size());
+        for (size_t i = 0; i < answer.points.size(); ++i) {
+          const auto& a = answer.points[i];
+          auto& out = results[i];
+          out.status = static_cast<uint8_t>(a.status);
+          const auto sigma = a.measurement.Sigma();
+          out.x = a.measurement.p_robot_m.x();
+          out.y = a.measurement.p_robot_m.y();
+          out.z = a.measurement.p_robot_m.z();
+          for (int c = 0; c < 3; ++c) out.sigma[c] = sigma[c];
+          out.error = const_cast<char*>(a.error.c_str());
+        }
+        monocle_dds_PointReply reply{};
+        reply.client_id = const_cast<char*>(r.client_id.c_str());
+        reply.request_id = r.request_id;
+        reply.status = static_cast<uint8_t>(answer.status);
+        reply.error = const_cast<char*>(answer.error.c_str());
+        reply.points._buffer = results.data();
+        reply.points._length = reply.points._maximum = static_cast<uint32_t>(results.size());
+        reply.points._release = false;
+        if (auto s = replies->Write(reply); !s) std::cerr << "monocled: " << s.error() << "\n";
+        answered.emplace_back(r.client_id, r.request_id);
+        // Kept replies reach a client whose reader matched late; forget old ones.
+        if (answered.size() > 64) {
+          monocle_dds_PointReply key{};
+          key.client_id = const_cast<char*>(answered.front().first.c_str());
+          key.request_id = answered.front().second;
+          replies->Unregister(key);
+          answered.pop_front();
+        }
+      }
+    }
+  });
   std::cerr << "monocled: streaming poses of camera '" << camera << "' on DDS domain " << domain
             << ", topic " << monocle::dds::kPoseTopic << "\n";
   int signal = 0;
@@ -175,6 +282,7 @@ int main(int argc, char** argv) {
   }
   acquisition.join();
   processing.join();
+  queries.join();
   std::cerr << "monocled: stopped (" << latest.replaced
             << " frames skipped while processing was busy)\n";
   return 0;

@@ -42,6 +42,8 @@ Result<std::vector<CornerPose>> ReadTrajectoryFile(const std::string& path) {
   return out;
 }
 
+FloorPose SimFloorPose() { return FloorPose{1.05, 2.0595, 0.0698, 0.0262}; }
+
 CameraIntrinsics SimIntrinsics(int width, int height) {
   const double s = width / 1280.0;
   CameraIntrinsics k;
@@ -74,7 +76,7 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
     p.pan_rad = std::atan2(p.x_m, -p.y_m) + 0.08 * std::cos(5.0 * t);
     cam->corner_poses_.push_back(o.trajectory.empty() ? p : o.trajectory[i]);
   }
-  cam->floor_pose_ = FloorPose{1.05, 2.0595, 0.0698, 0.0262};
+  cam->floor_pose_ = SimFloorPose();
   for (int i = 0; i < (o.scene == SimScene::kCorner ? n : 2); ++i) {
     if (o.scene == SimScene::kCorner) {
       CornerScene scene;

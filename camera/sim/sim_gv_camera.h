@@ -89,5 +89,7 @@ class SimGvCamera {
 
 // The intrinsics of the simulated cameras: the paper's camera scaled to width x height.
 CameraIntrinsics SimIntrinsics(int width, int height);
+// The simulated floor camera's pose above the floor.
+FloorPose SimFloorPose();
 
 }  // namespace monocle

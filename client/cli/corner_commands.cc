@@ -143,8 +143,7 @@ int LocateLive(const Args& args) {
   const bool follow = args.Has("--follow");
   auto endpoint = dds::Endpoint<monocle_dds_CornerPose>::Open(
       static_cast<dds_domainid_t>(*domain), &monocle_dds_CornerPose_desc, dds::kPoseTopic,
-      /*writer=*/false, /*reader=*/true,
-      /*keep_last_per_key=*/false);
+      /*writer=*/false, /*reader=*/true, dds::EndpointQos{16, false});
   if (!endpoint) return Fail(endpoint.error(), kExitFailure);
   int printed = 0;
   auto last = std::chrono::steady_clock::now();

@@ -7,14 +7,19 @@
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "client/point_client.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
+#include "service/server/point_queries.h"
+
+#include <unistd.h>
+#include <chrono>
+#include <optional>
 #include "service/vision/chessboard.h"
 
 namespace monocle::cli {
 namespace {
 
-constexpr double kDefaultPixelSigmaPx = 0.5;
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
 constexpr const char* kCalibrateHelp =
@@ -53,6 +58,10 @@ centre, X_w along the image's horizontal axis, Y_w forward, Z_w up.
                           {error}
 
 Each result's sigma combines the calibration's covariance and the pixel noise.
+
+Live, from the running service (monocled) over DDS, instead of --calibration:
+  --camera ID             the floor camera monocled answers for (e.g. sim-floor)
+  --domain D              DDS domain id (default 0); --timeout S (default 10)
 Exit status 1 when any point could not be measured.
 )";
 
@@ -77,11 +86,6 @@ Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(
         "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,300@640.5,800)");
   }
   return std::make_pair(*second, std::optional<Eigen::Vector2d>(*first));
-}
-
-bool InsideImage(const CameraIntrinsics& k, const Eigen::Vector2d& px) {
-  return px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= k.width_px - 0.5 &&
-         px.y() <= k.height_px - 0.5;
 }
 
 int Calibrate(const std::vector<std::string>& argv) {
@@ -171,33 +175,79 @@ int Calibrate(const std::vector<std::string>& argv) {
   return kExitOk;
 }
 
+// Prints one result per point, in order; exit status 1 if any failed.
+int PrintPoints(const std::vector<std::string>& texts, const RequestAnswer& answer, bool json) {
+  bool any_failed = false;
+  if (json) std::cout << "[";
+  for (size_t i = 0; i < answer.points.size(); ++i) {
+    const auto& a = answer.points[i];
+    const bool ok = a.status == PointStatus::kMeasured;
+    any_failed |= !ok;
+    const auto sigma = a.measurement.Sigma();
+    const auto& p = a.measurement.p_robot_m;
+    if (json) {
+      proto::PointOutput out;
+      if (ok) {
+        out.set_x(p.x());
+        out.set_y(p.y());
+        out.set_z(p.z());
+        out.mutable_sigma()->set_x(sigma.x());
+        out.mutable_sigma()->set_y(sigma.y());
+        out.mutable_sigma()->set_z(sigma.z());
+      } else {
+        out.set_error(a.error);
+      }
+      std::cout << (i ? "," : "") << ToJson(out);
+    } else if (ok) {
+      std::cout << std::fixed << std::setprecision(4) << texts[i] << "  x=" << p.x()
+                << " y=" << p.y() << " z=" << p.z() << " m  (1σ " << sigma.x() << " " << sigma.y()
+                << " " << sigma.z() << " m)\n";
+    } else {
+      std::cout << texts[i] << "  error: " << a.error << "\n";
+    }
+  }
+  if (json) std::cout << "]\n";
+  return any_failed ? kExitFailure : kExitOk;
+}
+
 int Measure(const std::vector<std::string>& argv) {
   if (WantsHelp(argv)) {
     std::cout << kMeasureHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--calibration", "--pixel-sigma", "--camera"}, {"--json"}});
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--pixel-sigma", "--camera", "--domain", "--timeout"}, {"--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (args->Has("--camera")) {
-    return Fail(
-        "--camera needs the monocle service, which this build does not include yet; "
-        "use --calibration CAL.pbtxt",
-        kExitUsage);
-  }
-  const auto cal_path = args->Require("--calibration");
-  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto pixel_sigma = args->GetDouble("--pixel-sigma", kDefaultPixelSigmaPx);
   if (!pixel_sigma || *pixel_sigma < 0)
     return Fail("--pixel-sigma must be a number of pixels >= 0", kExitUsage);
   if (args->positionals().empty())
     return Fail("no POINT given (u,v or u,v@fu,fv; see --help)", kExitUsage);
   // Malformed points are a command-line error: reject them all before measuring any.
-  std::vector<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> points;
+  std::vector<PixelPair> points;
   for (const auto& text : args->positionals()) {
     auto p = ParsePoint(text);
     if (!p) return Fail(p.error(), kExitUsage);
-    points.push_back(*p);
+    const auto& [floor_px, top_px] = *p;
+    points.push_back(top_px ? PixelPair{top_px->x(), top_px->y(), true, floor_px.x(), floor_px.y()}
+                            : PixelPair{floor_px.x(), floor_px.y(), false, 0, 0});
   }
+  const bool json = args->Has("--json");
+  if (const auto camera = args->Get("--camera")) {
+    const auto domain = args->GetDouble("--domain", 0);
+    const auto timeout = args->GetDouble("--timeout", 10);
+    if (!domain || *domain < 0 || !timeout || *timeout <= 0) {
+      return Fail("--domain must be >= 0 and --timeout > 0 seconds", kExitUsage);
+    }
+    const auto answer =
+        client::MeasurePoints(*camera, points, *pixel_sigma, static_cast<int>(*domain), *timeout);
+    if (!answer) return Fail(answer.error(), kExitFailure);
+    if (answer->status != RequestStatus::kAnswered) return Fail(answer->error, kExitFailure);
+    return PrintPoints(args->positionals(), *answer, json);
+  }
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path)
+    return Fail("missing --calibration CAL.pbtxt (or --camera ID to ask the service)", kExitUsage);
   const auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   if (!calibration->floor) {
@@ -205,51 +255,11 @@ int Measure(const std::vector<std::string>& argv) {
         *cal_path + " has no floor section: run 'monocle floor calibrate ... --write' first",
         kExitFailure);
   }
-  const auto& k = calibration->intrinsics;
-  MeasurementNoise noise{calibration->floor->covariance, *pixel_sigma};
-
-  bool any_failed = false;
-  const bool json = args->Has("--json");
-  if (json) std::cout << "[";
-  for (size_t i = 0; i < points.size(); ++i) {
-    const auto& [floor_px, top_px] = points[i];
-    Result<FloorMeasurement> m = MakeError(ErrorCode::kInvalidArgument, "");
-    if (!InsideImage(k, floor_px) || (top_px && !InsideImage(k, *top_px))) {
-      std::ostringstream os;
-      os << "pixel outside the " << k.width_px << "x" << k.height_px << " image";
-      m = MakeError(ErrorCode::kOutOfRange, os.str());
-    } else if (top_px) {
-      m = MeasureVerticalPoint(k, calibration->floor->pose, noise, floor_px, *top_px);
-    } else {
-      m = MeasureFloorPoint(k, calibration->floor->pose, noise, floor_px);
-    }
-    any_failed |= !m.ok();
-    const std::string& text = args->positionals()[i];
-    if (json) {
-      proto::PointOutput out;
-      if (m) {
-        const auto sigma = m->Sigma();
-        out.set_x(m->p_robot_m.x());
-        out.set_y(m->p_robot_m.y());
-        out.set_z(m->p_robot_m.z());
-        out.mutable_sigma()->set_x(sigma.x());
-        out.mutable_sigma()->set_y(sigma.y());
-        out.mutable_sigma()->set_z(sigma.z());
-      } else {
-        out.set_error(m.error().message);
-      }
-      std::cout << (i ? "," : "") << ToJson(out);
-    } else if (m) {
-      const auto sigma = m->Sigma();
-      std::cout << std::fixed << std::setprecision(4) << text << "  x=" << m->p_robot_m.x()
-                << " y=" << m->p_robot_m.y() << " z=" << m->p_robot_m.z() << " m  (1σ " << sigma.x()
-                << " " << sigma.y() << " " << sigma.z() << " m)\n";
-    } else {
-      std::cout << text << "  error: " << m.error().message << "\n";
-    }
-  }
-  if (json) std::cout << "]\n";
-  return any_failed ? kExitFailure : kExitOk;
+  // The same computation the service runs for a query.
+  const auto answer =
+      AnswerPointRequest({{*cal_path, *calibration}}, *cal_path, points, *pixel_sigma);
+  if (answer.status != RequestStatus::kAnswered) return Fail(answer.error, kExitFailure);
+  return PrintPoints(args->positionals(), answer, json);
 }
 
 constexpr const char* kProjectHelp =

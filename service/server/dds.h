@@ -16,6 +16,13 @@ namespace monocle::dds {
 
 // The monocle topic names.
 inline constexpr const char* kPoseTopic = "monocle/pose";
+inline constexpr const char* kPointRequestTopic = "monocle/point_request";
+inline constexpr const char* kPointReplyTopic = "monocle/point_reply";
+
+struct EndpointQos {
+  int history_depth = 1;         // samples kept per instance (keep-last)
+  bool transient_local = false;  // late-matching readers still receive kept samples
+};
 
 Error DdsError(const std::string& what, dds_return_t rc);
 
@@ -48,7 +55,7 @@ class Endpoint {
  public:
   static Result<Endpoint> Open(dds_domainid_t domain, const dds_topic_descriptor_t* type,
                                const char* topic_name, bool writer, bool reader,
-                               bool keep_last_per_key) {
+                               EndpointQos eq = {}) {
     Endpoint ep;
     ep.participant_ = Entity(dds_create_participant(domain, nullptr, nullptr));
     if (ep.participant_.get() < 0)
@@ -56,7 +63,8 @@ class Endpoint {
     dds_qos_t* qos = dds_create_qos();
     dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
     // A slow subscriber must never stall the publisher: keep only the latest samples.
-    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, keep_last_per_key ? 1 : 16);
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, eq.history_depth);
+    if (eq.transient_local) dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
     const dds_entity_t topic =
         dds_create_topic(ep.participant_.get(), type, topic_name, qos, nullptr);
     if (topic < 0) {
@@ -80,6 +88,21 @@ class Endpoint {
     dds_delete_qos(qos);
     return ep;
   }
+
+  // Waits until some reader matches this endpoint's writer (discovery), up to `timeout`.
+  bool WaitForReader(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      dds_publication_matched_status_t st{};
+      if (dds_get_publication_matched_status(writer_.get(), &st) >= 0 && st.current_count > 0)
+        return true;
+      dds_sleepfor(DDS_MSECS(5));
+    }
+    return false;
+  }
+
+  // Forgets an instance (e.g. an old reply) so kept history does not grow without bound.
+  void Unregister(const T& key_holder) { dds_unregister_instance(writer_.get(), &key_holder); }
 
   Status Write(const T& sample) {
     const dds_return_t rc = dds_write(writer_.get(), &sample);
