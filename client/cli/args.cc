@@ -103,4 +103,12 @@ Result<double> Args::RequireDouble(const std::string& name) const {
   return GetDouble(name, 0);
 }
 
+Result<BoardSpec> RequireBoard(const Args& args) {
+  const auto board_text = args.Require("--board");
+  if (!board_text) return board_text.error();
+  const auto square = args.RequireDouble("--square");
+  if (!square) return square.error();
+  return ParseBoardSize(*board_text, *square);
+}
+
 }  // namespace monocle::cli

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "service/common/result.h"
+#include "service/vision/chessboard.h"
 
 namespace monocle::cli {
 
@@ -35,6 +36,9 @@ class Args {
   std::multimap<std::string, std::string> options_;
   std::set<std::string> flags_;
 };
+
+// --board COLSxROWS and --square METRES, both required, as a board spec.
+Result<BoardSpec> RequireBoard(const Args& args);
 
 // Parses a finite double; empty on trailing garbage.
 std::optional<double> ParseDouble(const std::string& text);

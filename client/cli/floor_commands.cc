@@ -100,11 +100,7 @@ int Calibrate(const std::vector<std::string>& argv) {
     return Fail("floor calibrate takes exactly one IMAGE (see --help)", kExitUsage);
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
-  const auto board_text = args->Require("--board");
-  if (!board_text) return Fail(board_text.error(), kExitUsage);
-  const auto square = args->RequireDouble("--square");
-  if (!square) return Fail(square.error(), kExitUsage);
-  const auto spec = ParseBoardSize(*board_text, *square);
+  const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
   const std::string method_text = args->Get("--method").value_or("full");
   if (method_text != "full" && method_text != "paper") {

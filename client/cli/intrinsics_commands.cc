@@ -35,11 +35,7 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   if (!args) return Fail(args.error(), kExitUsage);
   const auto out_path = args->Require("--out");
   if (!out_path) return Fail(out_path.error(), kExitUsage);
-  const auto board_text = args->Require("--board");
-  if (!board_text) return Fail(board_text.error(), kExitUsage);
-  const auto square = args->RequireDouble("--square");
-  if (!square) return Fail(square.error(), kExitUsage);
-  const auto spec = ParseBoardSize(*board_text, *square);
+  const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
   if (args->positionals().size() < 3)
     return Fail("give at least 3 board images (see --help)", kExitUsage);

@@ -105,11 +105,7 @@ int RenderCommand(const std::vector<std::string>& argv) {
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto out_path = args->Require("--out");
   if (!out_path) return Fail(out_path.error(), kExitUsage);
-  const auto board_text = args->Require("--board");
-  if (!board_text) return Fail(board_text.error(), kExitUsage);
-  const auto square = args->RequireDouble("--square");
-  if (!square) return Fail(square.error(), kExitUsage);
-  const auto spec = ParseBoardSize(*board_text, *square);
+  const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
   const auto noise = args->GetDouble("--noise", 0.0);
   if (!noise || *noise < 0) return Fail("--noise must be a number of grey levels >= 0", kExitUsage);
