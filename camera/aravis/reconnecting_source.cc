@@ -59,7 +59,9 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
                                                      std::to_string(stall_timeout_.count()) + " ms"
                                                : frame.error().message);
       source_->MarkUnresponsive();
-      source_.reset();
+      // Aravis's teardown of a camera that vanished blocks for seconds (GVCP time-outs):
+      // close it on a thread of its own so acquisition goes straight back to reconnecting.
+      std::thread([lost = std::move(source_)]() mutable { lost.reset(); }).detach();
       next_attempt_ = std::chrono::steady_clock::now() + backoff_;
     }
   }

@@ -72,7 +72,8 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   // A robot driving past the corner, 1.6 m below the ceiling, camera aimed near it.
   for (int i = 0; i < n; ++i) {
     const double t = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
-    CornerPose p{1.6 + 1.2 * t, 2.4 - 0.8 * t, 1.6, 0, 0.95 - 0.1 * t, 0.05 * std::sin(6.0 * t)};
+    CornerPose p{1.6 + 1.2 * t,  2.4 - 0.8 * t,           kSimCeilingDistanceM, 0,
+                 0.95 - 0.1 * t, 0.05 * std::sin(6.0 * t)};
     p.pan_rad = std::atan2(p.x_m, -p.y_m) + 0.08 * std::cos(5.0 * t);
     cam->corner_poses_.push_back(o.trajectory.empty() ? p : o.trajectory[i]);
   }

@@ -92,4 +92,7 @@ CameraIntrinsics SimIntrinsics(int width, int height);
 // The simulated floor camera's pose above the floor.
 FloorPose SimFloorPose();
 
+// Camera to ceiling of the simulated corner trajectory, metres.
+inline constexpr double kSimCeilingDistanceM = 1.6;
+
 }  // namespace monocle

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <optional>
 #include "service/vision/chessboard.h"
+#include "service/vision/floor_calibrator.h"
 
 namespace monocle::cli {
 namespace {
@@ -113,24 +114,10 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   const auto image = ReadGreyImage(args->positionals()[0]);
   if (!image) return Fail(image.error(), kExitFailure);
-  const auto& k = calibration->intrinsics;
-  if (image->cols != k.width_px || image->rows != k.height_px) {
-    std::ostringstream os;
-    os << "image is " << image->cols << "x" << image->rows << " but the calibration is for "
-       << k.width_px << "x" << k.height_px;
-    return Fail(os.str(), kExitFailure);
-  }
-  const auto board = DetectChessboard(*image, *spec);
-  if (!board) return Fail(board.error(), kExitFailure);
-  const auto result = CalibrateFloor(k, *board, method);
-  if (!result) return Fail(result.error(), kExitFailure);
-  if (!(result->pose.height_m > 0) ||
-      !(result->pose.pitch_rad > 0 && result->pose.pitch_rad < std::numbers::pi)) {
-    return Fail(
-        "the calibration gave an impossible pose (height <= 0 or pitch outside (0, pi)); "
-        "the board is probably not on the floor in view",
-        kExitFailure);
-  }
+  const auto calibrated = CalibrateFloorFromImage(*image, calibration->intrinsics, *spec, method);
+  if (!calibrated) return Fail(calibrated.error(), kExitFailure);
+  const FloorCalibration* result = &calibrated->calibration;
+  const size_t corners = calibrated->corners;
 
   if (args->Has("--write")) {
     CameraCalibration updated = *calibration;
@@ -147,7 +134,7 @@ int Calibrate(const std::vector<std::string>& argv) {
     out.set_roll(result->pose.roll_rad);
     out.set_rms_px(result->rms_px);
     out.set_method(ToString(method));
-    out.set_corners(static_cast<uint32_t>(board->pixels.size()));
+    out.set_corners(static_cast<uint32_t>(corners));
     out.mutable_sigma()->set_height(sigma[0]);
     out.mutable_sigma()->set_pitch(sigma[1]);
     out.mutable_sigma()->set_yaw(sigma[2]);
@@ -155,7 +142,7 @@ int Calibrate(const std::vector<std::string>& argv) {
     std::cout << ToJson(out) << "\n";
   } else {
     std::cout << std::fixed << std::setprecision(6) << "method  " << ToString(method) << " ("
-              << board->pixels.size() << " corners)\n"
+              << corners << " corners)\n"
               << "height  " << result->pose.height_m << " m      ± " << sigma[0] << " m\n"
               << "pitch   " << result->pose.pitch_rad << " rad    ± " << sigma[1] << " rad  ("
               << std::setprecision(4) << result->pose.pitch_rad * kDeg << "°)\n"

@@ -1,5 +1,7 @@
 #include "service/io/calibration_file.h"
 
+#include "service/io/text_proto.h"
+
 #include <fcntl.h>
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
@@ -17,23 +19,6 @@
 namespace monocle {
 namespace {
 
-class CollectFirstError : public google::protobuf::io::ErrorCollector {
- public:
-  void AddError(int line, google::protobuf::io::ColumnNumber column,
-                const std::string& message) override {
-    if (text_.empty()) {
-      // The parser counts from 0.
-      text_ = "line " + std::to_string(line + 1) + ", column " + std::to_string(column + 1) + ": " +
-              message;
-    }
-  }
-  void AddWarning(int, google::protobuf::io::ColumnNumber, const std::string&) override {}
-  const std::string& text() const { return text_; }
-
- private:
-  std::string text_;
-};
-
 Error Invalid(const std::string& source, const std::string& field, const std::string& why) {
   return MakeError(ErrorCode::kInvalidArgument, source + ": field '" + field + "' " + why);
 }
@@ -44,12 +29,7 @@ bool Finite(double v) { return std::isfinite(v); }
 
 Result<CameraCalibration> ParseCalibration(const std::string& text, const std::string& source) {
   proto::Calibration msg;
-  google::protobuf::TextFormat::Parser parser;
-  CollectFirstError errors;
-  parser.RecordErrorsTo(&errors);
-  if (!parser.ParseFromString(text, &msg)) {
-    return MakeError(ErrorCode::kInvalidArgument, source + ": " + errors.text());
-  }
+  if (auto parsed = ParseTextProto(text, source, &msg); !parsed) return parsed.error();
   if (!msg.has_intrinsics()) return Invalid(source, "intrinsics", "is missing");
   const auto& in = msg.intrinsics();
   CameraCalibration out;

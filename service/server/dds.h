@@ -5,6 +5,7 @@
 #include <dds/dds.h>
 
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -18,6 +19,12 @@ namespace monocle::dds {
 inline constexpr const char* kPoseTopic = "monocle/pose";
 inline constexpr const char* kPointRequestTopic = "monocle/point_request";
 inline constexpr const char* kPointReplyTopic = "monocle/point_reply";
+inline constexpr const char* kCalibrationTopic = "monocle/calibration";
+inline constexpr const char* kStatusTopic = "monocle/status";
+inline constexpr const char* kPoseRequestTopic = "monocle/pose_request";
+inline constexpr const char* kPoseReplyTopic = "monocle/pose_reply";
+inline constexpr const char* kFloorCalibrationRequestTopic = "monocle/floor_calibration_request";
+inline constexpr const char* kFloorCalibrationReplyTopic = "monocle/floor_calibration_reply";
 
 struct EndpointQos {
   int history_depth = 1;         // samples kept per instance (keep-last)
@@ -25,6 +32,9 @@ struct EndpointQos {
 };
 
 Error DdsError(const std::string& what, dds_return_t rc);
+
+class Entity;
+Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain);
 
 class Entity {
  public:
@@ -53,36 +63,52 @@ class Entity {
 template <typename T>
 class Endpoint {
  public:
+  // With its own participant (simple tools); see the overload below for a shared one.
   static Result<Endpoint> Open(dds_domainid_t domain, const dds_topic_descriptor_t* type,
                                const char* topic_name, bool writer, bool reader,
                                EndpointQos eq = {}) {
+    auto participant = CreateParticipant(domain);
+    if (!participant) return participant.error();
+    return Open(*participant, type, topic_name, writer, reader, eq);
+  }
+
+  // On a participant shared with other endpoints (one per process keeps discovery cheap).
+  static Result<Endpoint> Open(std::shared_ptr<Entity> participant,
+                               const dds_topic_descriptor_t* type, const char* topic_name,
+                               bool writer, bool reader, EndpointQos eq = {}) {
     Endpoint ep;
-    ep.participant_ = Entity(dds_create_participant(domain, nullptr, nullptr));
-    if (ep.participant_.get() < 0)
-      return DdsError("cannot create a DDS participant", ep.participant_.get());
+    ep.participant_ = std::move(participant);
     dds_qos_t* qos = dds_create_qos();
     dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
     // A slow subscriber must never stall the publisher: keep only the latest samples.
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, eq.history_depth);
     if (eq.transient_local) dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
     const dds_entity_t topic =
-        dds_create_topic(ep.participant_.get(), type, topic_name, qos, nullptr);
+        dds_create_topic(ep.participant_->get(), type, topic_name, qos, nullptr);
     if (topic < 0) {
       dds_delete_qos(qos);
       return DdsError(std::string("cannot create topic ") + topic_name, topic);
     }
     if (writer) {
-      ep.writer_ = Entity(dds_create_writer(ep.participant_.get(), topic, qos, nullptr));
+      ep.writer_ = Entity(dds_create_writer(ep.participant_->get(), topic, qos, nullptr));
       if (ep.writer_.get() < 0) {
         dds_delete_qos(qos);
         return DdsError("cannot create a DDS writer", ep.writer_.get());
       }
     }
     if (reader) {
-      ep.reader_ = Entity(dds_create_reader(ep.participant_.get(), topic, qos, nullptr));
+      ep.reader_ = Entity(dds_create_reader(ep.participant_->get(), topic, qos, nullptr));
       if (ep.reader_.get() < 0) {
         dds_delete_qos(qos);
         return DdsError("cannot create a DDS reader", ep.reader_.get());
+      }
+      // One waitset per reader, made once: creating it per wait costs on every request.
+      ep.waitset_ = Entity(dds_create_waitset(ep.participant_->get()));
+      const dds_entity_t cond = dds_create_readcondition(ep.reader_.get(), DDS_ANY_STATE);
+      if (ep.waitset_.get() < 0 || cond < 0 || dds_waitset_attach(ep.waitset_.get(), cond, 0) < 0) {
+        dds_delete_qos(qos);
+        return DdsError("cannot create a DDS waitset",
+                        ep.waitset_.get() < 0 ? ep.waitset_.get() : cond);
       }
     }
     dds_delete_qos(qos);
@@ -115,13 +141,9 @@ class Endpoint {
   template <typename Out, typename Copy>
   Result<std::vector<Out>> Take(std::chrono::milliseconds timeout, Copy copy) {
     std::vector<Out> out;
-    Entity waitset(dds_create_waitset(participant_.get()));
-    const dds_entity_t cond = dds_create_readcondition(reader_.get(), DDS_ANY_STATE);
-    dds_waitset_attach(waitset.get(), cond, 0);
     const dds_return_t rc = dds_waitset_wait(
-        waitset.get(), nullptr, 0,
+        waitset_.get(), nullptr, 0,
         DDS_MSECS(std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count()));
-    dds_delete(cond);
     if (rc < 0) return DdsError("waiting for samples failed", rc);
     constexpr int kMax = 16;
     void* samples[kMax] = {};
@@ -136,7 +158,9 @@ class Endpoint {
   }
 
  private:
-  Entity participant_, writer_, reader_;
+  // Declared first so it is deleted last (deleting it deletes its children too).
+  std::shared_ptr<Entity> participant_;
+  Entity writer_, reader_, waitset_;
 };
 
 }  // namespace monocle::dds

@@ -1,0 +1,193 @@
+#include "service/server/camera_worker.h"
+
+#include <algorithm>
+
+#include "camera/aravis/reconnecting_source.h"
+
+namespace monocle {
+namespace {
+
+int64_t UnixNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Frames the camera numbered but we never received. GigE Vision 1.x ids are 16 bits and skip
+// 0; a reconnect restarts them: neither counts as a loss.
+uint64_t MissingBetween(uint64_t previous, uint64_t current) {
+  if (current > previous && current - previous < 1000) return current - previous - 1;
+  if (previous >= 65000 && previous <= 65535 && current < 1000)
+    return 65535 - previous + current - 1;
+  return 0;
+}
+
+}  // namespace
+
+CameraWorker::CameraWorker(CameraSetup setup, CameraCalibration calibration,
+                           OnProcessed on_processed, OnStateChange on_state_change)
+    : setup_(std::move(setup)),
+      on_processed_(std::move(on_processed)),
+      on_state_change_(std::move(on_state_change)),
+      calibration_(std::move(calibration)) {}
+
+CameraWorker::~CameraWorker() { Stop(); }
+
+void CameraWorker::Start() {
+  acquisition_ = std::thread([this] { Acquire(); });
+  if (setup_.corner()) processing_ = std::thread([this] { Process(); });
+}
+
+void CameraWorker::Stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  frame_ready_.notify_all();
+  if (acquisition_.joinable()) acquisition_.join();
+  if (processing_.joinable()) processing_.join();
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.state = WorkerState::kStopped;
+}
+
+void CameraWorker::SetState(WorkerState state, const std::string& error) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.state = state;
+    if (!error.empty()) {
+      status_.last_error = error;
+      status_.last_error_ns = UnixNowNs();
+    }
+  }
+  if (on_state_change_) on_state_change_();
+}
+
+void CameraWorker::Acquire() {
+  ReconnectingSource source(
+      setup_.options,
+      [this](CameraState s, const std::string& reason) {
+        SetState(
+            s == CameraState::kStreaming ? WorkerState::kStreaming : WorkerState::kReconnecting,
+            reason);
+      },
+      setup_.stall_timeout);
+  while (true) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) return;
+    }
+    auto frame = source.Next(std::chrono::milliseconds(200));
+    if (!frame) {
+      // A configuration error (unknown feature, value out of range) will not heal by waiting.
+      if (frame.error().code == ErrorCode::kInvalidArgument ||
+          frame.error().code == ErrorCode::kOutOfRange) {
+        SetState(WorkerState::kStopped, frame.error().message);
+        return;
+      }
+      continue;
+    }
+    const auto received = std::chrono::steady_clock::now();
+    // Processing may hold a frame longer than the camera's ring has buffers: copy out of it.
+    frame->grey = frame->grey.clone();
+    frame->keepalive.reset();
+    frame->camera_id = setup_.id;
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++status_.frames;
+    ++period_frames_;
+    if (last_sequence_) status_.dropped += MissingBetween(*last_sequence_, frame->sequence);
+    last_sequence_ = frame->sequence;
+    if (grab_waiters_ > 0) {
+      grabbed_ = *frame;
+      ++grab_count_;
+    }
+    if (setup_.corner()) {
+      if (latest_) ++status_.skipped;
+      latest_ = std::move(*frame);
+      latest_received_ = received;
+    }
+    frame_ready_.notify_all();
+  }
+}
+
+void CameraWorker::Process() {
+  while (true) {
+    Frame frame;
+    std::chrono::steady_clock::time_point received;
+    CameraIntrinsics intrinsics;
+    double ceiling_m = 0;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      frame_ready_.wait(lock, [&] { return stop_ || latest_.has_value(); });
+      if (stop_) return;
+      frame = std::move(*latest_);
+      latest_.reset();
+      received = latest_received_;
+      intrinsics = calibration_.intrinsics;
+      ceiling_m = setup_.ceiling_distance_m.value_or(calibration_.ceiling_distance_m.value_or(0));
+    }
+    ProcessedFrame out;
+    out.sequence = frame.sequence;
+    out.capture_time_ns = frame.capture_time_ns;
+    out.camera_clock = frame.time_source == TimeSource::kCamera;
+    out.corner = LocateCorner(frame.grey, intrinsics, ceiling_m);
+    out.processing_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                            std::chrono::steady_clock::now() - received)
+                            .count();
+    if (on_processed_) on_processed_(out);
+    const double latency_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - received)
+            .count();
+    std::lock_guard<std::mutex> lock(mutex_);
+    period_latency_ms_.push_back(latency_ms);
+    if (!out.corner) {
+      status_.last_error = out.corner.error().message;
+      status_.last_error_ns = UnixNowNs();
+    }
+  }
+}
+
+WorkerStatus CameraWorker::Snapshot(bool new_period) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!new_period) return status_;
+  const auto now = std::chrono::steady_clock::now();
+  const double seconds = std::chrono::duration<double>(now - period_start_).count();
+  status_.fps = seconds > 0 ? static_cast<double>(period_frames_) / seconds : 0;
+  if (!period_latency_ms_.empty()) {
+    auto mid = period_latency_ms_.begin() + static_cast<long>(period_latency_ms_.size() / 2);
+    std::nth_element(period_latency_ms_.begin(), mid, period_latency_ms_.end());
+    status_.latency_ms = *mid;
+  }
+  period_latency_ms_.clear();
+  period_frames_ = 0;
+  period_start_ = now;
+  return status_;
+}
+
+Result<Frame> CameraWorker::NextFrame(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  ++grab_waiters_;
+  const uint64_t before = grab_count_;
+  frame_ready_.wait_for(lock, timeout, [&] { return stop_ || grab_count_ > before; });
+  --grab_waiters_;
+  if (grab_count_ > before && grabbed_) {
+    Frame copy = *grabbed_;
+    if (grab_waiters_ == 0) grabbed_.reset();
+    return copy;
+  }
+  std::string why =
+      "no frame from camera '" + setup_.id + "' within " + std::to_string(timeout.count()) + " ms";
+  if (!status_.last_error.empty()) why += " (last error: " + status_.last_error + ")";
+  return MakeError(ErrorCode::kNotFound, why);
+}
+
+CameraCalibration CameraWorker::calibration() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return calibration_;
+}
+
+void CameraWorker::SetCalibration(const CameraCalibration& calibration) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  calibration_ = calibration;
+}
+
+}  // namespace monocle

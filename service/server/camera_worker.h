@@ -1,0 +1,96 @@
+// One camera of the service: an acquisition thread that never waits for processing, and (for
+// a corner camera) a processing thread that locates the corner in the latest frame. Keeps the
+// camera's health figures for the status topic. DDS-free: results go to a callback.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "camera/frame_source.h"
+#include "service/io/calibration_file.h"
+#include "service/server/service_config.h"
+#include "service/vision/corner_locator.h"
+
+namespace monocle {
+
+enum class WorkerState : uint8_t { kStreaming = 0, kReconnecting = 1, kStopped = 2 };
+
+// One processed frame of a corner camera.
+struct ProcessedFrame {
+  uint64_t sequence = 0;
+  int64_t capture_time_ns = 0;
+  bool camera_clock = false;
+  Result<CornerLocation> corner = MakeError(ErrorCode::kNotFound, "not processed");
+  int64_t processing_ns = 0;  // frame received -> pose computed
+};
+
+struct WorkerStatus {
+  WorkerState state = WorkerState::kReconnecting;
+  double fps = 0;         // frames received per second since the last snapshot
+  uint64_t frames = 0;    // since start
+  uint64_t dropped = 0;   // frame id gaps: sent by the camera, never received
+  uint64_t skipped = 0;   // not processed because processing was still busy
+  double latency_ms = 0;  // median, frame received -> result handed on, since last snapshot
+  std::string last_error;
+  int64_t last_error_ns = 0;  // Unix time
+};
+
+class CameraWorker {
+ public:
+  // Called on the processing thread after each corner frame.
+  using OnProcessed = std::function<void(const ProcessedFrame&)>;
+  // Called when the camera's state changes (lost, back, stopped).
+  using OnStateChange = std::function<void()>;
+
+  CameraWorker(CameraSetup setup, CameraCalibration calibration, OnProcessed on_processed,
+               OnStateChange on_state_change);
+  ~CameraWorker();
+  CameraWorker(const CameraWorker&) = delete;
+  CameraWorker& operator=(const CameraWorker&) = delete;
+
+  void Start();
+  void Stop();  // joins the threads
+
+  const CameraSetup& setup() const { return setup_; }
+  // The health figures; `new_period` starts a new averaging period for fps and latency.
+  WorkerStatus Snapshot(bool new_period);
+  // A copy of the first frame received after this call.
+  Result<Frame> NextFrame(std::chrono::milliseconds timeout);
+  CameraCalibration calibration() const;
+  void SetCalibration(const CameraCalibration& calibration);
+
+ private:
+  void Acquire();
+  void Process();
+  void SetState(WorkerState state, const std::string& error);
+
+  const CameraSetup setup_;
+  const OnProcessed on_processed_;
+  const OnStateChange on_state_change_;
+
+  mutable std::mutex mutex_;  // guards everything below
+  std::condition_variable frame_ready_;
+  bool stop_ = false;
+  std::optional<Frame> latest_;  // for processing; a newer frame replaces one not yet taken
+  std::chrono::steady_clock::time_point latest_received_;
+  std::optional<Frame> grabbed_;  // for NextFrame
+  uint64_t grab_count_ = 0;
+  int grab_waiters_ = 0;
+  CameraCalibration calibration_;
+  WorkerStatus status_;
+  uint64_t period_frames_ = 0;
+  std::chrono::steady_clock::time_point period_start_ = std::chrono::steady_clock::now();
+  std::vector<double> period_latency_ms_;
+  std::optional<uint64_t> last_sequence_;
+
+  std::thread acquisition_, processing_;
+};
+
+}  // namespace monocle

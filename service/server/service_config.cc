@@ -1,0 +1,204 @@
+#include "service/server/service_config.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "camera/sim/sim_gv_camera.h"
+#include "idl/service_config.pb.h"
+#include "service/io/calibration_file.h"
+#include "service/io/text_proto.h"
+
+namespace monocle {
+namespace {
+
+using google::protobuf::TextFormat;
+
+// "cfg.pbtxt: line 7: camera[1].role must be ..." (the line of the field, or of the camera
+// when the field is missing).
+class FieldErrors {
+ public:
+  FieldErrors(const std::string& source, const TextFormat::ParseInfoTree& tree)
+      : source_(source), tree_(tree) {}
+
+  // `at_field`: the field whose line to name when it is not `field` itself.
+  Error Camera(int index, const std::string& field, const std::string& why,
+               const std::string& at_field = "") const {
+    const auto* camera_field = proto::ServiceConfig::descriptor()->FindFieldByName("camera");
+    int line = tree_.GetLocation(camera_field, index).line;
+    const auto* nested = tree_.GetTreeForNested(camera_field, index);
+    const auto* f =
+        proto::CameraConfig::descriptor()->FindFieldByName(at_field.empty() ? field : at_field);
+    if (nested != nullptr && f != nullptr) {
+      const auto at = nested->GetLocation(f, f->is_repeated() ? 0 : -1);
+      if (at.line >= 0) line = at.line;
+    }
+    return MakeError(ErrorCode::kInvalidArgument, source_ + ": line " + std::to_string(line + 1) +
+                                                      ": camera[" + std::to_string(index) + "]." +
+                                                      field + " " + why);
+  }
+  Error Top(const std::string& field, const std::string& why) const {
+    const auto* f = proto::ServiceConfig::descriptor()->FindFieldByName(field);
+    const int line = f != nullptr ? tree_.GetLocation(f, -1).line : -1;
+    return MakeError(ErrorCode::kInvalidArgument,
+                     source_ + (line >= 0 ? ": line " + std::to_string(line + 1) : "") + ": " +
+                         field + " " + why);
+  }
+
+ private:
+  std::string source_;
+  const TextFormat::ParseInfoTree& tree_;
+};
+
+}  // namespace
+
+const char* ToString(CameraRole role) {
+  switch (role) {
+    case CameraRole::kCorner:
+      return "corner";
+    case CameraRole::kFloor:
+      return "floor";
+    case CameraRole::kCornerAndFloor:
+      return "corner+floor";
+  }
+  return "?";
+}
+
+Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::string& source,
+                                        const std::string& base_dir) {
+  proto::ServiceConfig msg;
+  TextFormat::ParseInfoTree tree;
+  if (auto parsed = ParseTextProto(text, source, &msg, &tree); !parsed) return parsed.error();
+  const FieldErrors errors(source, tree);
+  ServiceSetup out;
+  // Cyclone DDS maps a domain to UDP ports; 232 is the highest id whose ports fit.
+  if (msg.domain() < 0 || msg.domain() > 232) return errors.Top("domain", "must be 0..232");
+  out.domain = msg.domain();
+  if (msg.has_status_period_s()) {
+    if (!(msg.status_period_s() >= 0.05 && msg.status_period_s() <= 3600))
+      return errors.Top("status_period_s", "must be 0.05..3600 seconds");
+    out.status_period =
+        std::chrono::milliseconds(static_cast<int64_t>(msg.status_period_s() * 1000));
+  }
+  if (msg.camera_size() == 0)
+    return MakeError(ErrorCode::kInvalidArgument,
+                     source + ": no camera { ... } configured (see monocled --print-config)");
+  std::set<std::string> ids;
+  for (int i = 0; i < msg.camera_size(); ++i) {
+    const auto& c = msg.camera(i);
+    CameraSetup cam;
+    if (c.device().empty())
+      return errors.Camera(i, "device", "is missing: an Aravis id, IP, serial or sim-corner");
+    cam.options.device = c.device();
+    cam.id = c.id().empty() ? c.device() : c.id();
+    if (!ids.insert(cam.id).second)
+      return errors.Camera(i, "id", "'" + cam.id + "' names two cameras; give each its own id",
+                           c.id().empty() ? "device" : "id");
+    switch (c.role()) {
+      case proto::CORNER:
+        cam.role = CameraRole::kCorner;
+        break;
+      case proto::FLOOR:
+        cam.role = CameraRole::kFloor;
+        break;
+      case proto::CORNER_AND_FLOOR:
+        cam.role = CameraRole::kCornerAndFloor;
+        break;
+      default:
+        return errors.Camera(i, "role", "is missing: CORNER, FLOOR or CORNER_AND_FLOOR");
+    }
+    if (c.calibration().empty())
+      return errors.Camera(i, "calibration",
+                           "is missing: the camera's calibration file (monocle intrinsics "
+                           "calibrate writes one)");
+    std::filesystem::path path(c.calibration());
+    if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+    cam.calibration_path = path.lexically_normal().string();
+    if (c.has_ceiling_distance_m()) {
+      if (!(c.ceiling_distance_m() > 0 && c.ceiling_distance_m() < 100))
+        return errors.Camera(i, "ceiling_distance_m", "must be 0..100 metres");
+      cam.ceiling_distance_m = c.ceiling_distance_m();
+    }
+    if (!c.pixel_format().empty()) cam.options.pixel_format = c.pixel_format();
+    if (c.has_exposure_us()) {
+      if (!(c.exposure_us() > 0)) return errors.Camera(i, "exposure_us", "must be > 0 µs");
+      cam.options.exposure_us = c.exposure_us();
+    }
+    if (c.has_gain()) cam.options.gain = c.gain();
+    if (c.has_frame_rate_hz()) {
+      if (!(c.frame_rate_hz() > 0)) return errors.Camera(i, "frame_rate_hz", "must be > 0 Hz");
+      cam.options.frame_rate_hz = c.frame_rate_hz();
+    }
+    if (c.has_packet_size_bytes()) cam.options.packet_size_bytes = c.packet_size_bytes();
+    if (c.has_inter_packet_delay_ticks())
+      cam.options.inter_packet_delay_ticks = c.inter_packet_delay_ticks();
+    for (const auto& f : c.feature()) {
+      if (f.name().empty()) return errors.Camera(i, "feature", "has an empty name");
+      cam.options.features.emplace_back(f.name(), f.value());
+    }
+    if (c.has_stall_timeout_s()) {
+      if (!(c.stall_timeout_s() >= 0.05 && c.stall_timeout_s() <= 600))
+        return errors.Camera(i, "stall_timeout_s", "must be 0.05..600 seconds");
+      cam.stall_timeout =
+          std::chrono::milliseconds(static_cast<int64_t>(c.stall_timeout_s() * 1000));
+    }
+    out.cameras.push_back(std::move(cam));
+  }
+  return out;
+}
+
+Result<ServiceSetup> LoadServiceConfig(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return MakeError(ErrorCode::kNotFound, "cannot read configuration file '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return ParseServiceConfig(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+std::string EmbeddedDefaultConfig() {
+  return R"(# monocled's embedded default: the two in-process simulated cameras.
+# Calibration paths are relative to the state directory (--state-dir).
+domain: 0
+camera {
+  id: "sim-corner"
+  device: "sim-corner"
+  role: CORNER
+  calibration: "sim-corner.pbtxt"
+}
+camera {
+  id: "sim-floor"
+  device: "sim-floor"
+  role: FLOOR
+  calibration: "sim-floor.pbtxt"
+}
+)";
+}
+
+Status EnsureSimulatorCalibrations(const std::string& state_dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(state_dir, ec);
+  if (ec) {
+    return MakeError(ErrorCode::kIo,
+                     "cannot create the state directory '" + state_dir + "': " + ec.message());
+  }
+  const auto corner_path = (std::filesystem::path(state_dir) / "sim-corner.pbtxt").string();
+  const auto floor_path = (std::filesystem::path(state_dir) / "sim-floor.pbtxt").string();
+  if (!std::filesystem::exists(corner_path)) {
+    CameraCalibration corner;
+    corner.intrinsics = SimIntrinsics(1280, 1024);
+    corner.ceiling_distance_m = kSimCeilingDistanceM;
+    if (auto s = SaveCalibrationFileAtomically(corner_path, corner); !s) return s;
+  }
+  if (!std::filesystem::exists(floor_path)) {
+    CameraCalibration floor;
+    floor.intrinsics = SimIntrinsics(1280, 1024);
+    floor.floor = FloorCalibration{};
+    floor.floor->pose = SimFloorPose();
+    if (auto s = SaveCalibrationFileAtomically(floor_path, floor); !s) return s;
+  }
+  return Ok{};
+}
+
+}  // namespace monocle

@@ -1,0 +1,110 @@
+#include "service/server/service_config.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "service/io/calibration_file.h"
+
+namespace monocle {
+namespace {
+
+TEST(ServiceConfigTest, EmbeddedDefaultHasBothSimulatedCameras) {
+  const auto setup = ParseServiceConfig(EmbeddedDefaultConfig(), "default", "/state");
+  ASSERT_TRUE(setup.ok()) << setup.error();
+  ASSERT_EQ(setup->cameras.size(), 2u);
+  EXPECT_EQ(setup->cameras[0].id, "sim-corner");
+  EXPECT_EQ(setup->cameras[0].role, CameraRole::kCorner);
+  EXPECT_EQ(setup->cameras[0].calibration_path, "/state/sim-corner.pbtxt");
+  EXPECT_EQ(setup->cameras[1].options.device, "sim-floor");
+  EXPECT_EQ(setup->cameras[1].role, CameraRole::kFloor);
+}
+
+TEST(ServiceConfigTest, ReadsEveryCameraSetting) {
+  const auto setup = ParseServiceConfig(R"(
+domain: 7
+status_period_s: 0.5
+camera {
+  id: "front"
+  device: "192.168.1.20"
+  role: CORNER_AND_FLOOR
+  calibration: "/etc/monocle/front.pbtxt"
+  ceiling_distance_m: 2.1
+  pixel_format: "Mono16"
+  exposure_us: 5000
+  gain: 3
+  frame_rate_hz: 20
+  packet_size_bytes: 8000
+  feature { name: "BalanceWhiteAuto" value: "Off" }
+  stall_timeout_s: 2
+}
+)",
+                                        "cfg", "/base");
+  ASSERT_TRUE(setup.ok()) << setup.error();
+  EXPECT_EQ(setup->domain, 7);
+  EXPECT_EQ(setup->status_period.count(), 500);
+  const auto& c = setup->cameras.at(0);
+  EXPECT_EQ(c.id, "front");
+  EXPECT_TRUE(c.corner() && c.floor());
+  EXPECT_EQ(c.calibration_path, "/etc/monocle/front.pbtxt");
+  EXPECT_DOUBLE_EQ(*c.ceiling_distance_m, 2.1);
+  EXPECT_EQ(c.options.pixel_format, "Mono16");
+  EXPECT_DOUBLE_EQ(*c.options.exposure_us, 5000);
+  EXPECT_EQ(*c.options.packet_size_bytes, 8000);
+  ASSERT_EQ(c.options.features.size(), 1u);
+  EXPECT_EQ(c.options.features[0].second, "Off");
+  EXPECT_EQ(c.stall_timeout.count(), 2000);
+}
+
+// Each broken file is rejected with its line and the field at fault.
+TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
+  struct Case {
+    const char* text;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"camera {\n  device: \"a\"\n  colour: 3\n}\n", "cfg: line 3, column"},
+      {"camera {\n  device: \"a\"\n  colour: 3\n}\n", "no field named \"colour\""},
+      // Protobuf reports a bad value where the next token starts; the value is named.
+      {"camera {\n  device: \"a\"\n  role: SIDEWAYS\n}\n", "\"SIDEWAYS\" for field \"role\""},
+      {"domain: 400\ncamera { device: \"a\" role: FLOOR calibration: \"x\" }\n",
+       "cfg: line 1: domain must be 0..232"},
+      {"camera {\n  device: \"a\"\n  calibration: \"x\"\n}\n", "camera[0].role is missing"},
+      {"camera {\n  role: FLOOR\n}\n", "cfg: line 1: camera[0].device is missing"},
+      {"camera { device: \"a\" role: FLOOR calibration: \"x\" }\n"
+       "camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n}\n",
+       "cfg: line 3: camera[1].id 'a' names two cameras"},
+      {"camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n  exposure_us: -1\n}\n",
+       "cfg: line 5: camera[0].exposure_us must be > 0"},
+      {"domain: 1\n", "no camera"},
+  };
+  for (const auto& c : cases) {
+    const auto setup = ParseServiceConfig(c.text, "cfg", "");
+    ASSERT_FALSE(setup.ok()) << c.text;
+    EXPECT_NE(setup.error().message.find(c.expected), std::string::npos)
+        << "expected '" << c.expected << "' in: " << setup.error().message;
+  }
+}
+
+TEST(ServiceConfigTest, SimulatorCalibrationsAreWrittenOnceAndLoad) {
+  const auto dir = std::filesystem::temp_directory_path() / "monocle_config_test_state";
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(EnsureSimulatorCalibrations(dir.string()).ok());
+  const auto corner = LoadCalibrationFile((dir / "sim-corner.pbtxt").string());
+  ASSERT_TRUE(corner.ok()) << corner.error();
+  EXPECT_TRUE(corner->ceiling_distance_m.has_value());
+  const auto floor = LoadCalibrationFile((dir / "sim-floor.pbtxt").string());
+  ASSERT_TRUE(floor.ok()) << floor.error();
+  ASSERT_TRUE(floor->floor.has_value());
+  // A later run keeps what is there (a floor calibration command may have updated it).
+  CameraCalibration changed = *floor;
+  changed.floor->pose.height_m = 0.5;
+  ASSERT_TRUE(SaveCalibrationFileAtomically((dir / "sim-floor.pbtxt").string(), changed).ok());
+  ASSERT_TRUE(EnsureSimulatorCalibrations(dir.string()).ok());
+  EXPECT_DOUBLE_EQ(LoadCalibrationFile((dir / "sim-floor.pbtxt").string())->floor->pose.height_m,
+                   0.5);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace monocle
