@@ -30,6 +30,8 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
         // Back-off doubles up to 2 s: quick to come back, quiet while the camera is away.
         next_attempt_ = std::chrono::steady_clock::now() + backoff_;
         backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(2000));
+        // Say why, so a status display can tell "camera not found" from "lost".
+        SetState(CameraState::kReconnecting, opened.error().message);
         if (opened.error().code == ErrorCode::kOutOfRange ||
             opened.error().code == ErrorCode::kInvalidArgument) {
           return opened.error();  // a configuration error will not heal by waiting

@@ -23,6 +23,8 @@ int CornerCommand(const std::vector<std::string>& args);
 int CameraCommand(const std::string& command, const std::vector<std::string>& args);
 int IntrinsicsCommand(const std::vector<std::string>& args);
 int RenderCommand(const std::vector<std::string>& args);
+// The running service's cameras (over DDS).
+int StatusCommand(const std::vector<std::string>& args);
 
 // Prints "monocle: error: <message>" on stderr and returns `status`.
 int Fail(const std::string& message, int status);

@@ -1,9 +1,12 @@
 // monocle corner locate (offline: images and a calibration file).
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <mutex>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -11,10 +14,9 @@
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "client/cli/live.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
-#include "service/server/dds.h"
-#include "service/server/pose_messages.h"
 #include "service/vision/corner_locator.h"
 
 namespace monocle::cli {
@@ -135,74 +137,51 @@ proto::CornerOutput ToOutput(const std::string& image, const Result<CornerLocati
 int LocateLive(const Args& args) {
   const std::string camera = *args.Get("--camera");
   const auto count = args.GetDouble("--count", 1);
-  const auto domain = args.GetDouble("--domain", 0);
+  if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
   const auto timeout_s = args.GetDouble("--timeout", 10);
-  if (!count || *count < 1 || !domain || *domain < 0 || !timeout_s || *timeout_s <= 0) {
-    return Fail("--count must be >= 1, --domain >= 0, --timeout > 0 seconds", kExitUsage);
-  }
+  int status = kExitOk;
+  auto client = OpenClient(args, &status);
+  if (!client) return status;
   const bool follow = args.Has("--follow");
-  auto endpoint = dds::Endpoint<monocle_dds_CornerPose>::Open(
-      static_cast<dds_domainid_t>(*domain), &monocle_dds_CornerPose_desc, dds::kPoseTopic,
-      /*writer=*/false, /*reader=*/true, dds::EndpointQos{16, false});
-  if (!endpoint) return Fail(endpoint.error(), kExitFailure);
+  // Poses arrive on the subscription's thread; printed here, in order.
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::deque<Pose> queue;
+  auto subscription = client->subscribe_poses(
+      [&](const Pose& p) {
+        std::lock_guard<std::mutex> lock(mutex);
+        queue.push_back(p);
+        arrived.notify_one();
+      },
+      camera);
+  if (!subscription) return Fail(subscription.error());
   int printed = 0;
-  auto last = std::chrono::steady_clock::now();
   while (follow || printed < *count) {
-    auto samples = endpoint->Take<proto::LivePoseOutput>(
-        std::chrono::milliseconds(200), [](const monocle_dds_CornerPose& s) {
-          proto::LivePoseOutput out;
-          out.set_camera(s.camera_id);
-          out.set_sequence(s.frame_sequence);
-          out.set_capture_time_ns(s.capture_time_ns);
-          out.set_time_source(s.time_source == 1 ? "camera" : "host");
-          auto* p = out.mutable_pose();
-          if (s.status != 0) {
-            p->set_error(s.error);
-            return out;
-          }
-          p->set_x(s.x);
-          p->set_y(s.y);
-          p->set_z(s.z);
-          p->set_pan(s.pan);
-          p->set_tilt(s.tilt);
-          p->set_swing(s.swing);
-          for (double q : s.quaternion) p->add_quaternion(q);
-          p->add_corner_px(s.corner_px[0]);
-          p->add_corner_px(s.corner_px[1]);
-          p->set_rms_px(s.rms_px);
-          auto* sigma = p->mutable_sigma();
-          sigma->set_x(std::sqrt(s.covariance[0]));
-          sigma->set_y(std::sqrt(s.covariance[6]));
-          sigma->set_pan(std::sqrt(s.covariance[12]));
-          sigma->set_tilt(std::sqrt(s.covariance[18]));
-          sigma->set_swing(std::sqrt(s.covariance[24]));
-          return out;
-        });
-    if (!samples) return Fail(samples.error(), kExitFailure);
-    for (const auto& out : *samples) {
-      if (out.camera() != camera) continue;
-      last = std::chrono::steady_clock::now();
-      if (args.Has("--json")) {
-        std::cout << ToJson(out) << std::endl;
-      } else if (out.pose().has_error()) {
-        std::cout << camera << " frame " << out.sequence() << "  error: " << out.pose().error()
-                  << std::endl;
-      } else {
-        const auto& p = out.pose();
-        std::cout << std::fixed << std::setprecision(4) << camera << " frame " << out.sequence()
-                  << "  x=" << p.x() << " y=" << p.y() << " z=" << p.z() << " m  pan=" << p.pan()
-                  << " tilt=" << p.tilt() << " swing=" << p.swing() << " rad  rms "
-                  << std::setprecision(3) << p.rms_px() << " px" << std::endl;
-      }
-      if (!follow && ++printed >= *count) break;
-    }
-    if (std::chrono::steady_clock::now() - last > std::chrono::duration<double>(*timeout_s)) {
+    std::unique_lock<std::mutex> lock(mutex);
+    if (!arrived.wait_for(lock, std::chrono::duration<double>(*timeout_s),
+                          [&] { return !queue.empty(); })) {
       return Fail("no pose from camera '" + camera + "' on DDS domain " +
-                      std::to_string(static_cast<int>(*domain)) + " within " +
-                      std::to_string(static_cast<int>(*timeout_s)) +
+                      std::to_string(static_cast<int>(*args.GetDouble("--domain", 0))) +
+                      " within " + std::to_string(static_cast<int>(*timeout_s)) +
                       " s: is monocled running with that camera and domain?",
                   kExitFailure);
     }
+    const Pose pose = std::move(queue.front());
+    queue.pop_front();
+    lock.unlock();
+    if (args.Has("--json")) {
+      std::cout << ToJson(ToLiveOutput(pose)) << std::endl;
+    } else if (!pose.valid) {
+      std::cout << camera << " frame " << pose.frame_sequence << "  error: " << pose.error
+                << std::endl;
+    } else {
+      std::cout << std::fixed << std::setprecision(4) << camera << " frame " << pose.frame_sequence
+                << "  x=" << pose.x_m << " y=" << pose.y_m << " z=" << pose.z_m
+                << " m  pan=" << pose.pan_rad << " tilt=" << pose.tilt_rad
+                << " swing=" << pose.swing_rad << " rad  rms " << std::setprecision(3)
+                << pose.rms_px << " px" << std::endl;
+    }
+    ++printed;
   }
   return kExitOk;
 }

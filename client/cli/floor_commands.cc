@@ -7,7 +7,7 @@
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
-#include "client/point_client.h"
+#include "client/cli/live.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/server/point_queries.h"
@@ -26,6 +26,7 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 constexpr const char* kCalibrateHelp =
     R"(Usage: monocle floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES
                                 [--method full|paper] [--write] [--json]
+       monocle floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
 
 Finds a chessboard lying on the floor in IMAGE and computes the camera's pose above the
 floor: height h (metres, optical centre above the floor), pitch theta (rad, angle between
@@ -40,6 +41,14 @@ robot's X_w, eq. 10 of Xu et al.) and roll (rad, about the optical axis).
                            least squares, then eq. (15); roll is fixed at 0
   --write                  store the result in CAL.pbtxt (atomically)
   --json                   print one JSON object: height pitch yaw roll rms_px sigma{...}
+                           method corners written
+
+Live, from the running service (monocled) over DDS, instead of IMAGE and --calibration:
+  monocle floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
+  --camera ID              a floor camera of the service: it calibrates from the camera's
+                           next frame, writes its calibration file atomically and publishes
+                           the new calibration (topic monocle/calibration)
+  --domain D               DDS domain id (default 0); --timeout S (default 10)
 
 Board axes: x_p to the right in the image, y_p away from the camera.
 )";
@@ -89,20 +98,82 @@ Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(
   return std::make_pair(*second, std::optional<Eigen::Vector2d>(*first));
 }
 
+void PrintFloorCalibration(const proto::FloorCalibrationOutput& out, bool json) {
+  if (json) {
+    std::cout << ToJson(out) << "\n";
+    return;
+  }
+  const auto& sigma = out.sigma();
+  std::cout << std::fixed << std::setprecision(6) << "method  " << out.method() << " ("
+            << out.corners() << " corners)\n"
+            << "height  " << out.height() << " m      ± " << sigma.height() << " m\n"
+            << "pitch   " << out.pitch() << " rad    ± " << sigma.pitch() << " rad  ("
+            << std::setprecision(4) << out.pitch() * kDeg << "°)\n"
+            << std::setprecision(6) << "yaw     " << out.yaw() << " rad    ± " << sigma.yaw()
+            << " rad  (" << std::setprecision(4) << out.yaw() * kDeg << "°)\n"
+            << std::setprecision(6) << "roll    " << out.roll() << " rad    ± " << sigma.roll()
+            << " rad  (" << std::setprecision(4) << out.roll() * kDeg << "°)\n"
+            << std::setprecision(4) << "rms     " << out.rms_px() << " px\n";
+  if (!out.camera().empty()) {
+    std::cout << "camera  " << out.camera() << ", frame " << out.sequence() << ", revision "
+              << out.revision() << "\n";
+  }
+  if (!out.written().empty()) std::cout << "written to " << out.written() << "\n";
+}
+
+// The service calibrates its camera from the camera's next frame, stores and publishes it.
+int CalibrateLive(const Args& args, const BoardSpec& spec) {
+  for (const char* offline : {"--calibration", "--method", "--write"}) {
+    if (args.Has(offline) || args.Get(offline))
+      return Fail(std::string(offline) +
+                      " is for images; with --camera the service calibrates "
+                      "with the full method and stores the result in its own calibration file",
+                  kExitUsage);
+  }
+  if (!args.positionals().empty())
+    return Fail("with --camera no IMAGE is given: the camera's next frame is used", kExitUsage);
+  int status = kExitOk;
+  auto client = OpenClient(args, &status);
+  if (!client) return status;
+  const std::string camera = *args.Get("--camera");
+  const auto r = client->calibrate_floor(camera, spec.cols, spec.rows, spec.square_m);
+  if (!r) return Fail(r.error());
+  proto::FloorCalibrationOutput out;
+  out.set_height(r->floor.height_m);
+  out.set_pitch(r->floor.pitch_rad);
+  out.set_yaw(r->floor.yaw_rad);
+  out.set_roll(r->floor.roll_rad);
+  out.set_rms_px(r->floor.rms_px);
+  out.set_method("full");
+  out.set_corners(r->corners);
+  out.set_written(r->file);
+  out.set_camera(camera);
+  out.set_sequence(r->frame_sequence);
+  out.set_revision(r->revision);
+  out.mutable_sigma()->set_height(r->floor.sigma[0]);
+  out.mutable_sigma()->set_pitch(r->floor.sigma[1]);
+  out.mutable_sigma()->set_yaw(r->floor.sigma[2]);
+  out.mutable_sigma()->set_roll(r->floor.sigma[3]);
+  PrintFloorCalibration(out, args.Has("--json"));
+  return kExitOk;
+}
+
 int Calibrate(const std::vector<std::string>& argv) {
   if (WantsHelp(argv)) {
     std::cout << kCalibrateHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(
-      argv, {{"--calibration", "--board", "--square", "--method"}, {"--write", "--json"}});
+  auto args = Args::Parse(argv, {{"--calibration", "--board", "--square", "--method", "--camera",
+                                  "--domain", "--timeout"},
+                                 {"--write", "--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().size() != 1)
-    return Fail("floor calibrate takes exactly one IMAGE (see --help)", kExitUsage);
-  const auto cal_path = args->Require("--calibration");
-  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
+  if (args->Get("--camera")) return CalibrateLive(*args, *spec);
+  if (args->positionals().size() != 1)
+    return Fail("floor calibrate takes exactly one IMAGE, or --camera ID (see --help)", kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const std::string method_text = args->Get("--method").value_or("full");
   if (method_text != "full" && method_text != "paper") {
     return Fail("--method must be full or paper, not '" + method_text + "'", kExitUsage);
@@ -119,42 +190,29 @@ int Calibrate(const std::vector<std::string>& argv) {
   const FloorCalibration* result = &calibrated->calibration;
   const size_t corners = calibrated->corners;
 
+  std::string written;
   if (args->Has("--write")) {
     CameraCalibration updated = *calibration;
     updated.floor = *result;
     const auto saved = SaveCalibrationFileAtomically(*cal_path, updated);
     if (!saved) return Fail(saved.error(), kExitFailure);
+    written = *cal_path;
   }
+  proto::FloorCalibrationOutput out;
+  out.set_height(result->pose.height_m);
+  out.set_pitch(result->pose.pitch_rad);
+  out.set_yaw(result->pose.yaw_rad);
+  out.set_roll(result->pose.roll_rad);
+  out.set_rms_px(result->rms_px);
+  out.set_method(ToString(method));
+  out.set_corners(static_cast<uint32_t>(corners));
+  out.set_written(written);
   const auto sigma = result->Sigma();
-  if (args->Has("--json")) {
-    proto::FloorCalibrationOutput out;
-    out.set_height(result->pose.height_m);
-    out.set_pitch(result->pose.pitch_rad);
-    out.set_yaw(result->pose.yaw_rad);
-    out.set_roll(result->pose.roll_rad);
-    out.set_rms_px(result->rms_px);
-    out.set_method(ToString(method));
-    out.set_corners(static_cast<uint32_t>(corners));
-    out.mutable_sigma()->set_height(sigma[0]);
-    out.mutable_sigma()->set_pitch(sigma[1]);
-    out.mutable_sigma()->set_yaw(sigma[2]);
-    out.mutable_sigma()->set_roll(sigma[3]);
-    std::cout << ToJson(out) << "\n";
-  } else {
-    std::cout << std::fixed << std::setprecision(6) << "method  " << ToString(method) << " ("
-              << corners << " corners)\n"
-              << "height  " << result->pose.height_m << " m      ± " << sigma[0] << " m\n"
-              << "pitch   " << result->pose.pitch_rad << " rad    ± " << sigma[1] << " rad  ("
-              << std::setprecision(4) << result->pose.pitch_rad * kDeg << "°)\n"
-              << std::setprecision(6) << "yaw     " << result->pose.yaw_rad << " rad    ± "
-              << sigma[2] << " rad  (" << std::setprecision(4) << result->pose.yaw_rad * kDeg
-              << "°)\n"
-              << std::setprecision(6) << "roll    " << result->pose.roll_rad << " rad    ± "
-              << sigma[3] << " rad  (" << std::setprecision(4) << result->pose.roll_rad * kDeg
-              << "°)\n"
-              << std::setprecision(4) << "rms     " << result->rms_px << " px\n";
-    if (args->Has("--write")) std::cout << "written to " << *cal_path << "\n";
-  }
+  out.mutable_sigma()->set_height(sigma[0]);
+  out.mutable_sigma()->set_pitch(sigma[1]);
+  out.mutable_sigma()->set_yaw(sigma[2]);
+  out.mutable_sigma()->set_roll(sigma[3]);
+  PrintFloorCalibration(out, args->Has("--json"));
   return kExitOk;
 }
 
@@ -217,16 +275,28 @@ int Measure(const std::vector<std::string>& argv) {
   }
   const bool json = args->Has("--json");
   if (const auto camera = args->Get("--camera")) {
-    const auto domain = args->GetDouble("--domain", 0);
-    const auto timeout = args->GetDouble("--timeout", 10);
-    if (!domain || *domain < 0 || !timeout || *timeout <= 0) {
-      return Fail("--domain must be >= 0 and --timeout > 0 seconds", kExitUsage);
+    int status = kExitOk;
+    auto client = OpenClient(*args, &status);
+    if (!client) return status;
+    std::vector<PixelQuery> queries;
+    for (const auto& p : points) {
+      queries.push_back(p.paired ? PixelQuery{p.u, p.v, std::array<double, 2>{p.floor_u, p.floor_v}}
+                                 : PixelQuery{p.u, p.v, std::nullopt});
     }
-    const auto answer =
-        client::MeasurePoints(*camera, points, *pixel_sigma, static_cast<int>(*domain), *timeout);
-    if (!answer) return Fail(answer.error(), kExitFailure);
-    if (answer->status != RequestStatus::kAnswered) return Fail(answer->error, kExitFailure);
-    return PrintPoints(args->positionals(), *answer, json);
+    const auto measured = client->measure(*camera, queries, *pixel_sigma);
+    if (!measured) return Fail(measured.error());
+    // The service's answer in the offline form, so both print the same way.
+    RequestAnswer answer;
+    for (const auto& m : *measured) {
+      PointAnswer a;
+      a.status = static_cast<PointStatus>(m.status);
+      a.error = m.error;
+      a.measurement.p_robot_m = Eigen::Vector3d(m.p_robot_m[0], m.p_robot_m[1], m.p_robot_m[2]);
+      a.measurement.covariance =
+          Eigen::Vector3d(m.sigma_m[0], m.sigma_m[1], m.sigma_m[2]).cwiseAbs2().asDiagonal();
+      answer.points.push_back(std::move(a));
+    }
+    return PrintPoints(args->positionals(), answer, json);
   }
   const auto cal_path = args->Require("--calibration");
   if (!cal_path)

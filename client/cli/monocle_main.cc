@@ -1,4 +1,5 @@
-// The monocle command line. Offline forms work on images and calibration files.
+// The monocle command line. Offline forms work on images and calibration files; the
+// --camera forms and `status` ask the running service over DDS (monocle::Client).
 #include <iostream>
 #include <string>
 #include <vector>
@@ -31,6 +32,16 @@ Commands:
                [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
       Renders a chessboard (and boxes) on the floor as the calibrated camera sees it.
 
+Live, from the running service (monocled) over DDS [--domain D] [--timeout S]:
+  corner locate --camera ID [--count N] [--follow] [--json]
+      The camera's poses as the service streams them.
+  floor measure --camera ID [--pixel-sigma PX] [--json] POINT...
+      Points measured by the service with its current calibration of that camera.
+  floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
+      The service calibrates the floor from the camera's next frame, stores and publishes it.
+  status [--watch] [--json]
+      The service's cameras: state, fps, dropped frames, latency, last error.
+
   cameras [--json]
       Lists the GigE Vision and USB3 Vision cameras Aravis sees.
   snapshot CAMERA --out IMG.png
@@ -58,6 +69,7 @@ int main(int argc, char** argv) {
   }
   if (command == "intrinsics") return monocle::cli::IntrinsicsCommand(rest);
   if (command == "render") return monocle::cli::RenderCommand(rest);
+  if (command == "status") return monocle::cli::StatusCommand(rest);
   if (command == "--version") {
     std::cout << "monocle 0.1.0\n";
     return 0;

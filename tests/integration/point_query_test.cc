@@ -6,13 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
-#include "client/point_client.h"
+#include "monocle/client.h"
 #include "service/geometry/test_scenes.h"
 #include "service/io/calibration_file.h"
-#include "tests/integration/cli_process.h"
+#include "tests/integration/service_process.h"
 
 namespace monocle {
 namespace {
@@ -22,29 +21,22 @@ using testing::TempDir;
 
 constexpr int kDomain = 26;
 
-std::string Monocled() {
-  const std::string bin = testing::MonocleBinary();
-  return bin.substr(0, bin.rfind("/client/")) + "/service/monocled";
-}
-
 class PointQueryTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    setenv(
-        "CYCLONEDDS_URI",
-        ("file://" + std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml").c_str(),
-        1);
     CameraCalibration cal;
     cal.intrinsics = testing::PaperCamera();
     cal.floor = FloorCalibration{};
     cal.floor->pose = FloorPose{1.05, 2.0595, 0.0698, 0.0262};
     cal.floor->covariance = FloorCovariance::Identity() * 1e-8;
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "floor.pbtxt", cal).ok());
-    monocled_ = std::make_unique<testing::ChildProcess>(
-        Monocled(),
-        std::vector<std::string>{"--floor-camera", "floor", "--floor-calibration",
-                                 dir_ / "floor.pbtxt", "--domain", std::to_string(kDomain)},
-        dir_ / "monocled.log");
+    // The point queries use only the calibration file; the camera gives the status.
+    monocled_ = testing::StartMonocled(dir_, "domain: " + std::to_string(kDomain) + R"(
+camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
+)");
+    auto client = Client::open({kDomain, std::chrono::milliseconds(30000)});
+    ASSERT_TRUE(client.ok()) << client.error();
+    client_.emplace(std::move(client).value());
   }
   void TearDown() override {
     EXPECT_EQ(monocled_->Stop(), 0) << testing::ReadFile(dir_ / "monocled.log");
@@ -52,6 +44,7 @@ class PointQueryTest : public ::testing::Test {
 
   TempDir dir_{"monocle_point_query"};
   std::unique_ptr<testing::ChildProcess> monocled_;
+  std::optional<Client> client_;
 };
 
 TEST_F(PointQueryTest, AnswersEqualTheOfflineToolOnTheSameFile) {
@@ -87,35 +80,44 @@ TEST_F(PointQueryTest, AnswersEqualTheOfflineToolOnTheSameFile) {
 
 TEST_F(PointQueryTest, MalformedRequestsGetTypedErrorsAndTheServiceKeepsServing) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto ask = [&](const std::string& camera, const std::vector<PixelPair>& points) {
-    return client::MeasurePoints(camera, points, 0.5, kDomain, 30);
-  };
-  auto r = ask("floor", {{nan, 800}, {640, 5000}, {640, 800, true, nan, 1}});
+  auto r = client_->measure("floor", {{nan, 800, std::nullopt},
+                                      {640, 5000, std::nullopt},
+                                      {640, 800, std::array<double, 2>{nan, 1}}});
   ASSERT_TRUE(r.ok()) << r.error();
-  ASSERT_EQ(r->status, RequestStatus::kAnswered);
-  for (const auto& p : r->points) EXPECT_EQ(p.status, PointStatus::kInvalidPixel) << p.error;
+  ASSERT_EQ(r->size(), 3u);
+  for (const auto& p : *r) EXPECT_EQ(p.status, MeasuredPoint::Status::kInvalidPixel) << p.error;
 
-  r = ask("floor", {});
-  ASSERT_TRUE(r.ok()) << r.error();
-  EXPECT_EQ(r->status, RequestStatus::kInvalidRequest);
-  EXPECT_NE(r->error.find("no points"), std::string::npos);
+  r = client_->measure("floor", {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ClientError::Code::kInvalidRequest);
+  EXPECT_NE(r.error().message.find("no points"), std::string::npos) << r.error();
 
-  r = ask("floor", std::vector<PixelPair>(1000000, PixelPair{640, 800}));
-  ASSERT_TRUE(r.ok()) << r.error();
-  EXPECT_EQ(r->status, RequestStatus::kInvalidRequest);
-  EXPECT_NE(r->error.find("too many points"), std::string::npos);
+  r = client_->measure("floor", std::vector<PixelQuery>(1000000, PixelQuery{640, 800, {}}));
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ClientError::Code::kInvalidRequest);
+  EXPECT_NE(r.error().message.find("too many points"), std::string::npos) << r.error();
 
-  r = ask("no-such-camera", {{640, 800}});
-  ASSERT_TRUE(r.ok()) << r.error();
-  EXPECT_EQ(r->status, RequestStatus::kInvalidRequest);
-  EXPECT_NE(r->error.find("unknown floor camera 'no-such-camera'"), std::string::npos);
+  r = client_->measure("no-such-camera", {{640, 800, {}}});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ClientError::Code::kInvalidRequest);
+  EXPECT_NE(r.error().message.find("unknown floor camera 'no-such-camera'"), std::string::npos);
 
   // Still serving.
-  r = ask("floor", {{640, 800}});
+  r = client_->measure("floor", {{640, 800, {}}});
   ASSERT_TRUE(r.ok()) << r.error();
-  ASSERT_EQ(r->points.size(), 1u);
-  EXPECT_EQ(r->points[0].status, PointStatus::kMeasured);
-  EXPECT_GT(r->points[0].measurement.p_robot_m.y(), 0);
+  ASSERT_EQ(r->size(), 1u);
+  EXPECT_TRUE((*r)[0].ok()) << (*r)[0].error;
+  EXPECT_GT((*r)[0].p_robot_m[1], 0);
+}
+
+TEST(PointQueryNoServiceTest, NoServiceIsAClearError) {
+  testing::UseLoopbackDds();
+  auto client = Client::open({27, std::chrono::milliseconds(500)});
+  ASSERT_TRUE(client.ok()) << client.error();
+  const auto r = client->measure("floor", {{640, 800, {}}});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ClientError::Code::kNoService);
+  EXPECT_NE(r.error().message.find("is monocled running"), std::string::npos) << r.error();
 }
 
 }  // namespace

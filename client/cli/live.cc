@@ -1,0 +1,63 @@
+#include "client/cli/live.h"
+
+#include <cmath>
+
+#include "client/cli/commands.h"
+
+namespace monocle::cli {
+
+std::optional<Client> OpenClient(const Args& args, int* exit_status) {
+  const auto domain = args.GetDouble("--domain", 0);
+  const auto timeout_s = args.GetDouble("--timeout", 10);
+  if (!domain || *domain < 0 || *domain > 232 || *domain != std::floor(*domain)) {
+    *exit_status = Fail("--domain must be a DDS domain id, 0..232", kExitUsage);
+    return std::nullopt;
+  }
+  if (!timeout_s || !(*timeout_s > 0)) {
+    *exit_status = Fail("--timeout must be a positive number of seconds", kExitUsage);
+    return std::nullopt;
+  }
+  Client::Options options;
+  options.domain = static_cast<int>(*domain);
+  options.timeout = std::chrono::milliseconds(static_cast<int64_t>(*timeout_s * 1000));
+  auto client = Client::open(options);
+  if (!client) {
+    *exit_status = Fail(client.error());
+    return std::nullopt;
+  }
+  return std::move(client).value();
+}
+
+int Fail(const ClientError& error) { return Fail(error.message, kExitFailure); }
+
+proto::LivePoseOutput ToLiveOutput(const Pose& s) {
+  proto::LivePoseOutput out;
+  out.set_camera(s.camera_id);
+  out.set_sequence(s.frame_sequence);
+  out.set_capture_time_ns(s.capture_time_ns);
+  out.set_time_source(s.camera_clock ? "camera" : "host");
+  auto* p = out.mutable_pose();
+  if (!s.valid) {
+    p->set_error(s.error);
+    return out;
+  }
+  p->set_x(s.x_m);
+  p->set_y(s.y_m);
+  p->set_z(s.z_m);
+  p->set_pan(s.pan_rad);
+  p->set_tilt(s.tilt_rad);
+  p->set_swing(s.swing_rad);
+  for (double q : s.quaternion_wxyz) p->add_quaternion(q);
+  p->add_corner_px(s.corner_px[0]);
+  p->add_corner_px(s.corner_px[1]);
+  p->set_rms_px(s.rms_px);
+  auto* sigma = p->mutable_sigma();
+  sigma->set_x(std::sqrt(s.covariance[0]));
+  sigma->set_y(std::sqrt(s.covariance[6]));
+  sigma->set_pan(std::sqrt(s.covariance[12]));
+  sigma->set_tilt(std::sqrt(s.covariance[18]));
+  sigma->set_swing(std::sqrt(s.covariance[24]));
+  return out;
+}
+
+}  // namespace monocle::cli

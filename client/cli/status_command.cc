@@ -1,0 +1,103 @@
+// monocle status: the service's cameras, as its status topic says.
+#include <csignal>
+#include <iomanip>
+#include <iostream>
+#include <thread>
+
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "client/cli/live.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr const char* kStatusHelp =
+    R"(Usage: monocle status [--watch] [--json] [--domain D] [--timeout S]
+
+The running service's cameras (topic monocle/status): state (streaming, reconnecting,
+stopped), frames per second, frames received, dropped (sent by the camera, never received),
+skipped (not processed because processing was busy), processing latency (frame received ->
+result published, median over the status period, ms), and the last error.
+
+  --watch      keep printing every update until Ctrl-C
+  --json       one JSON object per camera per line
+  --domain D   DDS domain id (default 0)
+  --timeout S  give up after S seconds without an answer (default 10)
+)";
+
+proto::StatusOutput ToOutput(const CameraStatus& s) {
+  proto::StatusOutput out;
+  out.set_camera(s.camera_id);
+  out.set_device(s.device);
+  out.set_role(s.role);
+  out.set_state(ToString(s.state));
+  out.set_fps(s.fps);
+  out.set_frames(s.frames);
+  out.set_dropped(s.dropped);
+  out.set_skipped(s.skipped);
+  out.set_latency_ms(s.latency_ms);
+  out.set_last_error(s.last_error);
+  out.set_last_error_ns(s.last_error_ns);
+  out.set_stamp_ns(s.stamp_ns);
+  return out;
+}
+
+void PrintHeader() {
+  std::cout << std::left << std::setw(14) << "CAMERA" << std::setw(14) << "ROLE" << std::setw(14)
+            << "STATE" << std::right << std::setw(7) << "FPS" << std::setw(10) << "FRAMES"
+            << std::setw(9) << "DROPPED" << std::setw(9) << "SKIPPED" << std::setw(12)
+            << "LATENCY ms"
+            << "  LAST ERROR\n";
+}
+
+void Print(const CameraStatus& s, bool json) {
+  if (json) {
+    std::cout << ToJson(ToOutput(s)) << std::endl;
+    return;
+  }
+  std::cout << std::left << std::setw(14) << s.camera_id << std::setw(14) << s.role << std::setw(14)
+            << ToString(s.state) << std::right << std::fixed << std::setprecision(1) << std::setw(7)
+            << s.fps << std::setw(10) << s.frames << std::setw(9) << s.dropped << std::setw(9)
+            << s.skipped << std::setw(12) << std::setprecision(2) << s.latency_ms << "  "
+            << s.last_error << std::endl;
+}
+
+}  // namespace
+
+int StatusCommand(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kStatusHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{"--domain", "--timeout"}, {"--watch", "--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (!args->positionals().empty())
+    return Fail("status takes no arguments (see --help)", kExitUsage);
+  int exit_status = kExitOk;
+  auto client = OpenClient(*args, &exit_status);
+  if (!client) return exit_status;
+  const bool json = args->Has("--json");
+  const auto current = client->status();
+  if (!current) return Fail(current.error());
+  if (!json) PrintHeader();
+  for (const auto& s : *current) Print(s, json);
+  if (!args->Has("--watch")) return kExitOk;
+
+  // Until Ctrl-C: updates arrive on the subscription's thread; this one waits for the signal.
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+  std::mutex print;
+  auto sub = client->subscribe_status([&](const CameraStatus& s) {
+    std::lock_guard<std::mutex> lock(print);
+    Print(s, json);
+  });
+  if (!sub) return Fail(sub.error());
+  int signal = 0;
+  sigwait(&stop, &signal);
+  return kExitOk;
+}
+
+}  // namespace monocle::cli

@@ -1,0 +1,179 @@
+// monocled with both simulated cameras in its own process: floor calibration commands (file
+// written, calibration published), the status topic, and typed errors for bad commands.
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <thread>
+
+#include "camera/sim/sim_gv_camera.h"
+#include "idl/cli_output.pb.h"
+#include "monocle/client.h"
+#include "service/io/calibration_file.h"
+#include "tests/integration/service_process.h"
+
+namespace monocle {
+namespace {
+
+using testing::RunMonocle;
+using testing::TempDir;
+
+constexpr int kDomain = 28;
+
+class ServiceCommandsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // Start from a deliberately wrong floor calibration: the command must replace it.
+    CameraCalibration floor;
+    floor.intrinsics = SimIntrinsics(1280, 1024);
+    floor.floor = FloorCalibration{};
+    floor.floor->pose = FloorPose{0.5, 1.5, 0, 0};
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "floor.pbtxt", floor).ok());
+    CameraCalibration corner;
+    corner.intrinsics = SimIntrinsics(1280, 1024);
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "corner.pbtxt", corner).ok());
+    monocled_ = testing::StartMonocled(dir_, "domain: " + std::to_string(kDomain) + R"(
+status_period_s: 0.25
+camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
+camera { id: "corner" device: "sim-corner" role: CORNER calibration: "corner.pbtxt"
+         ceiling_distance_m: 1.6 }
+camera { id: "absent" device: "no-such-camera" role: FLOOR calibration: "floor.pbtxt" }
+)");
+    auto client = Client::open({kDomain, std::chrono::milliseconds(30000)});
+    ASSERT_TRUE(client.ok()) << client.error();
+    client_.emplace(std::move(client).value());
+  }
+  void TearDown() override {
+    EXPECT_EQ(monocled_->Stop(), 0) << testing::ReadFile(dir_ / "monocled.log");
+  }
+
+  std::string Domain() const { return " --domain " + std::to_string(kDomain) + " --timeout 30"; }
+
+  TempDir dir_{"monocle_service_commands"};
+  std::unique_ptr<testing::ChildProcess> monocled_;
+  std::optional<Client> client_;
+};
+
+TEST_F(ServiceCommandsTest, FloorCalibrationWritesTheFileAndPublishesIt) {
+  const auto r = RunMonocle(
+      dir_, "floor calibrate --camera floor --board 11x8 --square 0.05 --json" + Domain());
+  ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir_ / "monocled.log");
+  proto::FloorCalibrationOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  // The simulated floor camera's ground truth (accuracy goals of issue 2: h 0.2 %, 0.03°).
+  const FloorPose truth = SimFloorPose();
+  EXPECT_NEAR(out.height(), truth.height_m, 0.002 * truth.height_m);
+  EXPECT_NEAR(out.pitch(), truth.pitch_rad, 0.03 * M_PI / 180);
+  EXPECT_EQ(out.camera(), "floor");
+  EXPECT_EQ(out.revision(), 2u);
+  EXPECT_EQ(out.written(), dir_ / "floor.pbtxt");
+
+  // Stored: the file now holds the new floor section.
+  const auto stored = LoadCalibrationFile(dir_ / "floor.pbtxt");
+  ASSERT_TRUE(stored.ok()) << stored.error();
+  ASSERT_TRUE(stored->floor.has_value());
+  EXPECT_NEAR(stored->floor->pose.height_m, out.height(), 1e-9);
+
+  // Published: a subscriber that joins now still gets it (transient-local).
+  auto late = Client::open({kDomain, std::chrono::milliseconds(30000)});
+  ASSERT_TRUE(late.ok());
+  const auto published = late->calibrations();
+  ASSERT_TRUE(published.ok()) << published.error();
+  bool seen = false;
+  for (const auto& c : *published) {
+    if (c.camera_id != "floor") continue;
+    seen = true;
+    EXPECT_EQ(c.revision, 2u);
+    ASSERT_TRUE(c.floor.has_value());
+    EXPECT_NEAR(c.floor->height_m, out.height(), 1e-9);
+    EXPECT_EQ(c.file, dir_ / "floor.pbtxt");
+    const auto parsed = ParseCalibration(c.text, "published");
+    ASSERT_TRUE(parsed.ok()) << parsed.error();
+    EXPECT_NEAR(parsed->floor->pose.height_m, out.height(), 1e-9);
+  }
+  EXPECT_TRUE(seen);
+
+  // Point queries use the new calibration at once.
+  const auto offline =
+      RunMonocle(dir_, "floor measure --json --calibration " + dir_ / "floor.pbtxt" + " 640,900");
+  const auto live = RunMonocle(dir_, "floor measure --json --camera floor 640,900" + Domain());
+  EXPECT_EQ(live.out, offline.out) << live.err;
+}
+
+TEST_F(ServiceCommandsTest, BadCalibrationCommandsGetTypedErrors) {
+  struct Case {
+    const char* camera;
+    int cols, rows;
+    double square;
+    ClientError::Code code;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"no-such", 11, 8, 0.05, ClientError::Code::kInvalidRequest, "unknown camera 'no-such'"},
+      {"corner", 11, 8, 0.05, ClientError::Code::kInvalidRequest, "not a floor camera"},
+      {"floor", 1, 8, 0.05, ClientError::Code::kInvalidRequest, "board"},
+      {"floor", 11, 8, -1, ClientError::Code::kInvalidRequest, "square"},
+      {"floor", 15, 12, 0.05, ClientError::Code::kFailed, "frame"},
+      {"absent", 11, 8, 0.05, ClientError::Code::kFailed, "no frame from camera 'absent'"},
+  };
+  for (const auto& c : cases) {
+    const auto r = client_->calibrate_floor(c.camera, c.cols, c.rows, c.square);
+    ASSERT_FALSE(r.ok()) << c.camera << " " << c.cols << "x" << c.rows;
+    EXPECT_EQ(r.error().code, c.code) << r.error();
+    EXPECT_NE(r.error().message.find(c.message), std::string::npos) << r.error();
+  }
+  // The file is untouched and the service still serves.
+  EXPECT_NEAR(LoadCalibrationFile(dir_ / "floor.pbtxt")->floor->pose.height_m, 0.5, 1e-12);
+  EXPECT_TRUE(client_->measure("floor", {{640, 900, {}}}).ok());
+}
+
+TEST_F(ServiceCommandsTest, StatusReportsEveryCamera) {
+  // Wait until both simulated cameras stream (they open in the background).
+  std::map<std::string, CameraStatus> by_camera;
+  for (int attempt = 0; attempt < 40; ++attempt) {
+    const auto status = client_->status();
+    ASSERT_TRUE(status.ok()) << status.error();
+    for (const auto& s : *status) by_camera[s.camera_id] = s;
+    if (by_camera["floor"].state == CameraState::kStreaming &&
+        by_camera["corner"].state == CameraState::kStreaming && by_camera["corner"].fps > 0)
+      break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+  ASSERT_EQ(by_camera.size(), 3u);
+  EXPECT_EQ(by_camera["floor"].state, CameraState::kStreaming);
+  EXPECT_EQ(by_camera["floor"].role, "floor");
+  EXPECT_EQ(by_camera["corner"].state, CameraState::kStreaming);
+  EXPECT_GT(by_camera["corner"].fps, 0);
+  EXPECT_GT(by_camera["corner"].latency_ms, 0);
+  EXPECT_EQ(by_camera["absent"].state, CameraState::kReconnecting);
+  EXPECT_NE(by_camera["absent"].last_error.find("no-such-camera"), std::string::npos)
+      << by_camera["absent"].last_error;
+
+  // The command line, as a user would ask.
+  const auto r = RunMonocle(dir_, "status --json" + Domain());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::stringstream lines(r.out);
+  int cameras = 0;
+  for (std::string line; std::getline(lines, line); ++cameras) {
+    proto::StatusOutput out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok()) << line;
+    EXPECT_EQ(out.state(), out.camera() == "absent" ? "reconnecting" : "streaming") << line;
+  }
+  EXPECT_EQ(cameras, 3);
+
+  // Subscribers receive updates every status period.
+  std::mutex mutex;
+  int updates = 0;
+  auto sub = client_->subscribe_status([&](const CameraStatus&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++updates;
+  });
+  ASSERT_TRUE(sub.ok()) << sub.error();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  sub->stop();
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_GE(updates, 6);  // 3 cameras, period 0.25 s
+}
+
+}  // namespace
+}  // namespace monocle
