@@ -292,7 +292,10 @@ ClientResult<std::vector<MeasuredPoint>> Client::measure(const std::string& came
           out[i].status = static_cast<MeasuredPoint::Status>(q.status);
           out[i].p_robot_m = {q.x, q.y, q.z};
           out[i].sigma_m = {q.sigma[0], q.sigma[1], q.sigma[2]};
-          out[i].error = Text(q.error);
+        }
+        for (uint32_t i = 0; i < r.point_errors._length; ++i) {
+          const auto& e = r.point_errors._buffer[i];
+          if (e.index < out.size()) out[e.index].error = Text(e.message);
         }
         return out;
       });

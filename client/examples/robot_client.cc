@@ -15,10 +15,14 @@ int main(int argc, char** argv) {
   std::string corner_camera = "sim-corner", floor_camera = "sim-floor";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
-    if (flag == "--domain") domain = std::atoi(value.c_str());
-    else if (flag == "--corner") corner_camera = value;
-    else if (flag == "--floor") floor_camera = value;
-    else if (flag == "--poses") wanted_poses = std::atoi(value.c_str());
+    if (flag == "--domain")
+      domain = std::atoi(value.c_str());
+    else if (flag == "--corner")
+      corner_camera = value;
+    else if (flag == "--floor")
+      floor_camera = value;
+    else if (flag == "--poses")
+      wanted_poses = std::atoi(value.c_str());
   }
 
   auto client = monocle::Client::open({domain, std::chrono::seconds(20)});
@@ -78,9 +82,9 @@ int main(int argc, char** argv) {
       std::cerr << "point not measured: " << p.error << "\n";
       return 1;
     }
-    std::cout << "point x " << p.p_robot_m[0] << " y " << p.p_robot_m[1] << " z "
-              << p.p_robot_m[2] << " m (1 sigma " << p.sigma_m[0] << " " << p.sigma_m[1] << " "
-              << p.sigma_m[2] << " m)\n";
+    std::cout << "point x " << p.p_robot_m[0] << " y " << p.p_robot_m[1] << " z " << p.p_robot_m[2]
+              << " m (1 sigma " << p.sigma_m[0] << " " << p.sigma_m[1] << " " << p.sigma_m[2]
+              << " m)\n";
   }
 
   // 4. A typed error, as a robot would handle it.

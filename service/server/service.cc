@@ -263,6 +263,7 @@ void Service::ServePointRequests() {
         answer = AnswerPointRequest(floor_calibrations_, r.camera_id, r.points, r.sigma);
       }
       std::vector<monocle_dds_PointResult> results(answer.points.size());
+      std::vector<monocle_dds_PointError> errors;
       for (size_t i = 0; i < answer.points.size(); ++i) {
         const auto& a = answer.points[i];
         auto& out = results[i];
@@ -272,7 +273,8 @@ void Service::ServePointRequests() {
         out.y = a.measurement.p_robot_m.y();
         out.z = a.measurement.p_robot_m.z();
         for (int c = 0; c < 3; ++c) out.sigma[c] = sigma[c];
-        out.error = Chars(a.error);
+        if (a.status != PointStatus::kMeasured)
+          errors.push_back({static_cast<uint32_t>(i), Chars(a.error)});
       }
       monocle_dds_PointReply reply{};
       reply.client_id = Chars(r.client_id);
@@ -282,6 +284,10 @@ void Service::ServePointRequests() {
       reply.points._buffer = results.data();
       reply.points._length = reply.points._maximum = static_cast<uint32_t>(results.size());
       reply.points._release = false;
+      reply.point_errors._buffer = errors.data();
+      reply.point_errors._length = reply.point_errors._maximum =
+          static_cast<uint32_t>(errors.size());
+      reply.point_errors._release = false;
       if (auto s = point_replies_->Publish(reply); !s)
         std::cerr << "monocled: " << s.error() << "\n";
     }
