@@ -24,6 +24,9 @@ if ! "$work/example/monocle_client_example" --domain 29 --poses 3 >"$work/out.tx
   echo "example failed; monocled log:"; cat "$work/monocled.log"; cat "$work/out.txt"; exit 1
 fi
 cat "$work/out.txt"
+# The installed command line finds its library too.
+"$work/prefix/bin/monocle" status --domain 29 --timeout 20 | tee "$work/status.txt"
+grep -q "^sim-floor .*streaming" "$work/status.txt"
 grep -q "^camera sim-corner (corner): streaming" "$work/out.txt"
 test "$(grep -c '^pose frame' "$work/out.txt")" -ge 1
 test "$(grep -c '^point x' "$work/out.txt")" -eq 2
