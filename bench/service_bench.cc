@@ -6,7 +6,7 @@
 // Goals (issue 5): p50 round trip <= 1.5x ddsperf's; >= 1 M points/s; frame -> pose p50 <=
 // processing time + 1 ms.
 //
-//   build/bench/service_bench [--queries 3000] [--seconds 10] [--domain 35]
+//   build/bench/service_bench [--queries 3000] [--seconds 10] [--domain 35] [--batch 10000]
 //
 // monocled runs with both simulated cameras (sim-corner processing at 30 fps meanwhile, as in
 // use). ddsperf prints half the round trip; we double it. DDS goes over loopback only
@@ -94,7 +94,7 @@ DdsperfFigures RunDdsperf(int domain, const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int queries = 3000, domain = 35;
+  int queries = 3000, domain = 35, batch_size = 10000;
   double seconds = 10;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
@@ -104,8 +104,10 @@ int main(int argc, char** argv) {
       seconds = std::atof(argv[i + 1]);
     else if (a == "--domain")
       domain = std::atoi(argv[i + 1]);
+    else if (a == "--batch")
+      batch_size = std::clamp(std::atoi(argv[i + 1]), 1, 100000);
     else {
-      std::cerr << "usage: service_bench [--queries N] [--seconds S] [--domain D]\n";
+      std::cerr << "usage: service_bench [--queries N] [--seconds S] [--domain D] [--batch N]\n";
       return 2;
     }
   }
@@ -149,9 +151,9 @@ int main(int argc, char** argv) {
 
   // Batched throughput: requests of 100 000 points (the service's limit per request).
   std::vector<monocle::PixelQuery> batch;
-  for (int i = 0; i < 100000; ++i)
+  for (int i = 0; i < batch_size; ++i)
     batch.push_back({100.0 + (i % 1000), 600.0 + (i / 1000) * 4, std::nullopt});
-  const int batches = 20;
+  const int batches = std::max(20, 2000000 / batch_size);
   const auto t0 = Clock::now();
   for (int i = 0; i < batches; ++i) {
     const auto r = client->measure("sim-floor", batch);
