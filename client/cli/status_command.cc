@@ -73,6 +73,13 @@ int StatusCommand(const std::vector<std::string>& argv) {
   if (!args) return Fail(args.error(), kExitUsage);
   if (!args->positionals().empty())
     return Fail("status takes no arguments (see --help)", kExitUsage);
+  // With --watch, Ctrl-C ends it cleanly: the signal is waited for below, so block it before
+  // any thread (DDS's included) starts and would take it instead.
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  if (args->Has("--watch")) pthread_sigmask(SIG_BLOCK, &stop, nullptr);
   int exit_status = kExitOk;
   auto client = OpenClient(*args, &exit_status);
   if (!client) return exit_status;
@@ -84,11 +91,6 @@ int StatusCommand(const std::vector<std::string>& argv) {
   if (!args->Has("--watch")) return kExitOk;
 
   // Until Ctrl-C: updates arrive on the subscription's thread; this one waits for the signal.
-  sigset_t stop;
-  sigemptyset(&stop);
-  sigaddset(&stop, SIGINT);
-  sigaddset(&stop, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
   std::mutex print;
   auto sub = client->subscribe_status([&](const CameraStatus& s) {
     std::lock_guard<std::mutex> lock(print);
