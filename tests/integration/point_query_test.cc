@@ -21,8 +21,9 @@ using testing::TempDir;
 
 constexpr int kDomain = 26;
 
-class PointQueryTest : public ::testing::Test {
+class PointQueryTest : public testing::ServiceTest {
  protected:
+  PointQueryTest() : ServiceTest("monocle_point_query") {}
   void SetUp() override {
     CameraCalibration cal;
     cal.intrinsics = testing::PaperCamera();
@@ -31,20 +32,10 @@ class PointQueryTest : public ::testing::Test {
     cal.floor->covariance = FloorCovariance::Identity() * 1e-8;
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "floor.pbtxt", cal).ok());
     // The point queries use only the calibration file; the camera gives the status.
-    monocled_ = testing::StartMonocled(dir_, "domain: " + std::to_string(kDomain) + R"(
+    ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
 camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
-)");
-    auto client = Client::open({kDomain, std::chrono::milliseconds(30000)});
-    ASSERT_TRUE(client.ok()) << client.error();
-    client_.emplace(std::move(client).value());
+)"));
   }
-  void TearDown() override {
-    EXPECT_EQ(monocled_->Stop(), 0) << testing::ReadFile(dir_ / "monocled.log");
-  }
-
-  TempDir dir_{"monocle_point_query"};
-  std::unique_ptr<testing::ChildProcess> monocled_;
-  std::optional<Client> client_;
 };
 
 TEST_F(PointQueryTest, AnswersEqualTheOfflineToolOnTheSameFile) {

@@ -20,8 +20,9 @@ using testing::TempDir;
 
 constexpr int kDomain = 28;
 
-class ServiceCommandsTest : public ::testing::Test {
+class ServiceCommandsTest : public testing::ServiceTest {
  protected:
+  ServiceCommandsTest() : ServiceTest("monocle_service_commands") {}
   void SetUp() override {
     // Start from a deliberately wrong floor calibration: the command must replace it.
     CameraCalibration floor;
@@ -32,26 +33,16 @@ class ServiceCommandsTest : public ::testing::Test {
     CameraCalibration corner;
     corner.intrinsics = SimIntrinsics(1280, 1024);
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "corner.pbtxt", corner).ok());
-    monocled_ = testing::StartMonocled(dir_, "domain: " + std::to_string(kDomain) + R"(
+    ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
 status_period_s: 0.25
 camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
 camera { id: "corner" device: "sim-corner" role: CORNER calibration: "corner.pbtxt"
          ceiling_distance_m: 1.6 }
 camera { id: "absent" device: "no-such-camera" role: FLOOR calibration: "floor.pbtxt" }
-)");
-    auto client = Client::open({kDomain, std::chrono::milliseconds(30000)});
-    ASSERT_TRUE(client.ok()) << client.error();
-    client_.emplace(std::move(client).value());
-  }
-  void TearDown() override {
-    EXPECT_EQ(monocled_->Stop(), 0) << testing::ReadFile(dir_ / "monocled.log");
+)"));
   }
 
   std::string Domain() const { return " --domain " + std::to_string(kDomain) + " --timeout 30"; }
-
-  TempDir dir_{"monocle_service_commands"};
-  std::unique_ptr<testing::ChildProcess> monocled_;
-  std::optional<Client> client_;
 };
 
 TEST_F(ServiceCommandsTest, FloorCalibrationWritesTheFileAndPublishesIt) {

@@ -2,11 +2,16 @@
 // directory, DDS on loopback only.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "monocle/client.h"
 #include "tests/integration/cli_process.h"
 
 namespace monocle::testing {
@@ -32,5 +37,29 @@ inline std::unique_ptr<ChildProcess> StartMonocled(const TempDir& dir, const std
       MonocledBinary(), std::vector<std::string>{"--config", dir / "monocled.pbtxt"},
       dir / "monocled.log");
 }
+
+// A monocled (StartService) and a client of it; the service must stop cleanly after each
+// test. Call StartService under ASSERT_NO_FATAL_FAILURE in SetUp.
+class ServiceTest : public ::testing::Test {
+ protected:
+  explicit ServiceTest(const std::string& dir_name) : dir_(dir_name) {}
+
+  // `cameras`: the camera { ... } entries (and other fields) of the configuration.
+  void StartService(int domain, const std::string& cameras) {
+    monocled_ = StartMonocled(dir_, "domain: " + std::to_string(domain) + "\n" + cameras);
+    auto client = Client::open({domain, std::chrono::milliseconds(30000)});
+    ASSERT_TRUE(client.ok()) << client.error();
+    client_.emplace(std::move(client).value());
+  }
+  void TearDown() override {
+    if (monocled_) {
+      EXPECT_EQ(monocled_->Stop(), 0) << ReadFile(dir_ / "monocled.log");
+    }
+  }
+
+  TempDir dir_;
+  std::unique_ptr<ChildProcess> monocled_;
+  std::optional<Client> client_;
+};
 
 }  // namespace monocle::testing
