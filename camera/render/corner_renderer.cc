@@ -4,6 +4,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "camera/render/reference_camera.h"
 
 namespace monocle {
 namespace {
@@ -82,7 +87,39 @@ Hit CastRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, const Cor
   return hit;
 }
 
+// A realistic surface: its paint times a shading gradient across it.
+double ShadeRealistic(const Hit& hit, const RealisticLook& look) {
+  double base = 0;
+  Eigen::Vector2d in_plane = Eigen::Vector2d::Zero();
+  const Eigen::Vector2d* gradient = nullptr;
+  switch (hit.material) {
+    case kCeiling:
+      base = look.ceiling_grey;
+      in_plane = {hit.point.x(), hit.point.y()};
+      gradient = &look.shading_per_m[0];
+      break;
+    case kWallX0:
+      base = look.wall_x0_grey;
+      in_plane = {hit.point.y(), hit.point.z()};
+      gradient = &look.shading_per_m[1];
+      break;
+    case kWallY0:
+      base = look.wall_y0_grey;
+      in_plane = {hit.point.x(), hit.point.z()};
+      gradient = &look.shading_per_m[2];
+      break;
+    case kFloor:
+      return 0.6 * look.ceiling_grey;
+    case kFarWall:
+      return 0.5 * (look.wall_x0_grey + look.wall_y0_grey);
+    default:
+      return look.ceiling_grey;  // clutter is not drawn in the realistic look
+  }
+  return base * std::clamp(1 + gradient->dot(in_plane), 0.5, 1.5);
+}
+
 double Shade(const Hit& hit, const CornerScene& scene) {
+  if (scene.realistic) return ShadeRealistic(hit, *scene.realistic);
   double base = 0;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   switch (hit.material) {
@@ -129,65 +166,138 @@ double Shade(const Hit& hit, const CornerScene& scene) {
 
 }  // namespace
 
+std::ostream& operator<<(std::ostream& os, const RealisticLook& l) {
+  return os << "RealisticLook{ceiling " << l.ceiling_grey << " walls " << l.wall_x0_grey << " "
+            << l.wall_y0_grey << " grey, vignetting " << l.vignetting << ", hot-spot "
+            << l.hotspot_gain << " at (" << l.hotspot_px.transpose() << ") r "
+            << l.hotspot_radius_px << " px, blur " << l.blur_sigma_px << " px, noise "
+            << l.noise_sigma << ", jpeg " << l.jpeg_quality << "}";
+}
+
+RealisticLook RandomRealisticLook(uint64_t seed, const CameraIntrinsics& k) {
+  std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 17);
+  auto uniform = [&](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  RealisticLook l;
+  l.ceiling_grey = uniform(150, 215);
+  // Walls mostly darker than the ceiling (lit from below, the ceiling faces the lamps less
+  // often than the walls do; both happen).
+  const double sign = uniform(0, 1) < 0.75 ? -1 : 1;
+  const double d1 = uniform(10, 40);
+  double d2 = uniform(10, 40);
+  while (std::abs(d1 - d2) < 8) d2 = uniform(10, 40);
+  l.wall_x0_grey = l.ceiling_grey + sign * d1;
+  l.wall_y0_grey = l.ceiling_grey + sign * d2;
+  for (auto& g : l.shading_per_m) g = Eigen::Vector2d(uniform(-0.06, 0.06), uniform(-0.06, 0.06));
+  l.vignetting = uniform(0.1, 0.3);
+  l.hotspot_px = Eigen::Vector2d(uniform(0, k.width_px), uniform(0, k.height_px));
+  l.hotspot_radius_px = uniform(0.2, 0.5) * k.width_px;
+  l.hotspot_gain = uniform(0.05, 0.25);
+  l.blur_sigma_px = uniform(0.7, 1.6);
+  l.noise_sigma = uniform(2, 4);
+  l.jpeg_quality = static_cast<int>(std::lround(uniform(70, 90)));
+  return l;
+}
+
+namespace {
+
+// Vignetting, hot-spot, defocus, noise and JPEG on the rendered radiance.
+cv::Mat Photograph(const cv::Mat& radiance, const RealisticLook& look, uint64_t seed) {
+  const int w = radiance.cols, h = radiance.rows;
+  cv::Mat lit(h, w, CV_32F);
+  const double half_diagonal2 = 0.25 * (w * w + h * h);
+  const double r2_hot = 2 * look.hotspot_radius_px * look.hotspot_radius_px;
+  for (int v = 0; v < h; ++v) {
+    const auto* in = radiance.ptr<float>(v);
+    auto* out = lit.ptr<float>(v);
+    for (int u = 0; u < w; ++u) {
+      const double dx = u - 0.5 * (w - 1), dy = v - 0.5 * (h - 1);
+      const double r2 = (dx * dx + dy * dy) / half_diagonal2;       // 1 at the image's corners
+      const double vignette = 1 - look.vignetting * r2 * (2 - r2);  // smooth, flat at the centre
+      const double hx = u - look.hotspot_px.x(), hy = v - look.hotspot_px.y();
+      const double hot = 1 + look.hotspot_gain * std::exp(-(hx * hx + hy * hy) / r2_hot);
+      out[u] = static_cast<float>(in[u] * vignette * hot);
+    }
+  }
+  if (look.blur_sigma_px > 0)
+    cv::GaussianBlur(lit, lit, cv::Size(), look.blur_sigma_px, look.blur_sigma_px,
+                     cv::BORDER_REFLECT);
+  if (look.noise_sigma > 0) {
+    cv::Mat noise(h, w, CV_32F);
+    cv::RNG rng(seed);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, look.noise_sigma);
+    lit += noise;
+  }
+  cv::Mat grey;
+  lit.convertTo(grey, CV_8U);  // rounds and saturates
+  if (look.jpeg_quality > 0) {
+    std::vector<uint8_t> jpeg;
+    cv::imencode(".jpg", grey, jpeg, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});
+    grey = cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE);
+  }
+  return grey;
+}
+
+}  // namespace
+
 cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
                           const CornerScene& scene) {
   const int w = k.width_px, h = k.height_px;
-  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(pose).transpose();
-  const Eigen::Vector3d origin = CameraPosition(pose);
+  const Eigen::Matrix3d corner_from_camera = reference::RotationCameraFromCorner(pose).transpose();
+  const Eigen::Vector3d origin(pose.x_m, pose.y_m, pose.z_m);
+  const bool clutter = scene.clutter && !scene.realistic;
+  const cv::Mat rays = reference::UndistortedPixelGrid(k);
+  auto cast = [&](const cv::Point2d& n) {
+    return CastRay(origin, corner_from_camera * Eigen::Vector3d(n.x, n.y, 1), scene, clutter);
+  };
   cv::Mat value(h, w, CV_32F), material(h, w, CV_8U);
   for (int v = 0; v < h; ++v) {
     auto* val = value.ptr<float>(v);
     auto* mat = material.ptr<uint8_t>(v);
+    const auto* ray = rays.ptr<cv::Point2d>(v);
     for (int u = 0; u < w; ++u) {
-      const auto n = PixelToNormalized(k, Eigen::Vector2d(u, v));
-      if (!n) {
-        val[u] = 0;
-        mat[u] = kNone;
-        continue;
-      }
-      const Hit hit = CastRay(origin, corner_from_camera * n->homogeneous(), scene, scene.clutter);
+      const Hit hit = cast(ray[u]);
       val[u] = static_cast<float>(Shade(hit, scene));
       mat[u] = hit.material;
     }
   }
-  // Supersample 4x4 where a neighbour has another material.
-  cv::Mat out(h, w, CV_8U);
-  cv::Mat noise(h, w, CV_32F, cv::Scalar(0));
-  if (scene.noise_sigma > 0) {
-    cv::RNG rng(scene.seed);
-    rng.fill(noise, cv::RNG::NORMAL, 0.0, scene.noise_sigma);
-  }
+  // Supersample 4x4 where a neighbour has another material: each pixel averages its 16
+  // sub-pixel rays (pixel centres at integer coordinates, the pixel spans +-0.5).
+  std::vector<cv::Point> boundary;
+  std::vector<cv::Point2d> samples;
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
       const uint8_t m = material.at<uint8_t>(v, u);
-      bool boundary = false;
-      for (int dv = -1; dv <= 1 && !boundary; ++dv) {
-        for (int du = -1; du <= 1 && !boundary; ++du) {
+      bool is_boundary = false;
+      for (int dv = -1; dv <= 1 && !is_boundary; ++dv) {
+        for (int du = -1; du <= 1 && !is_boundary; ++du) {
           const int uu = std::clamp(u + du, 0, w - 1), vv = std::clamp(v + dv, 0, h - 1);
-          boundary = material.at<uint8_t>(vv, uu) != m;
+          is_boundary = material.at<uint8_t>(vv, uu) != m;
         }
       }
-      double sum = value.at<float>(v, u);
-      if (boundary) {
-        Eigen::Matrix2d j;
-        const auto n = PixelToNormalized(k, Eigen::Vector2d(u, v), &j);
-        if (n) {
-          sum = 0;
-          for (int sy = 0; sy < 4; ++sy) {
-            for (int sx = 0; sx < 4; ++sx) {
-              const Eigen::Vector2d offset((sx + 0.5) / 4 - 0.5, (sy + 0.5) / 4 - 0.5);
-              const Eigen::Vector2d ns = *n + j * offset;
-              sum += Shade(
-                  CastRay(origin, corner_from_camera * ns.homogeneous(), scene, scene.clutter),
-                  scene);
-            }
-          }
-          sum /= 16;
-        }
-      }
-      out.at<uint8_t>(v, u) = cv::saturate_cast<uint8_t>(sum + noise.at<float>(v, u));
+      if (!is_boundary) continue;
+      boundary.emplace_back(u, v);
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx)
+          samples.emplace_back(u + (sx + 0.5) / 4 - 0.5, v + (sy + 0.5) / 4 - 0.5);
     }
   }
+  const auto sample_rays = reference::UndistortPixels(k, samples);
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    double sum = 0;
+    for (int s = 0; s < 16; ++s) sum += Shade(cast(sample_rays[16 * i + s]), scene);
+    value.at<float>(boundary[i]) = static_cast<float>(sum / 16);
+  }
+  if (scene.realistic) return Photograph(value, *scene.realistic, scene.seed);
+  if (scene.noise_sigma > 0) {
+    cv::Mat noise(h, w, CV_32F);
+    cv::RNG rng(scene.seed);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, scene.noise_sigma);
+    value += noise;
+  }
+  cv::Mat out;
+  value.convertTo(out, CV_8U);
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <opencv2/core.hpp>
 
+#include "camera/render/reference_camera.h"
 #include "service/geometry/floor_calibration.h"
 
 namespace monocle {
@@ -73,7 +74,8 @@ double IntersectBoxes(const std::vector<FloorBox>& boxes, const Eigen::Vector3d&
 
 Eigen::Vector2d CenteredBoardOrigin(const FloorPose& pose, int cols, int rows, double square_m) {
   // Optical axis in the robot frame, from the camera at (0, 0, h).
-  const Eigen::Vector3d axis = RotationCameraFromRobot(pose).transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d axis =
+      reference::RotationCameraFromRobot(pose).transpose() * Eigen::Vector3d::UnitZ();
   Eigen::Vector2d center(0, 2);
   if (axis.z() < -1e-3) {
     const double t = pose.height_m / -axis.z();
@@ -88,7 +90,7 @@ Eigen::Vector2d CenteredBoardOrigin(const FloorPose& pose, int cols, int rows, d
 cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose,
                          const FloorScene& scene) {
   const int w = k.width_px, h = k.height_px;
-  const Eigen::Matrix3d r_robot_camera = RotationCameraFromRobot(pose).transpose();
+  const Eigen::Matrix3d r_robot_camera = reference::RotationCameraFromRobot(pose).transpose();
   const Eigen::Vector3d camera_center(0, 0, pose.height_m);
   const double s = scene.square_m;
   const double ca = std::cos(pose.yaw_rad), sa = std::sin(pose.yaw_rad);
@@ -97,15 +99,15 @@ cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose,
   // and the pixel's shade if a box hides the floor.
   cv::Mat board_x(h, w, CV_64F), board_y(h, w, CV_64F), box_shade(h, w, CV_64F, cv::Scalar(-1));
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  const cv::Mat rays = reference::UndistortedPixelGrid(k);
   for (int v = 0; v < h; ++v) {
     auto* bx = board_x.ptr<double>(v);
     auto* by = board_y.ptr<double>(v);
     auto* shade_row = box_shade.ptr<double>(v);
+    const auto* ray = rays.ptr<cv::Point2d>(v);
     for (int u = 0; u < w; ++u) {
       bx[u] = by[u] = nan;
-      const auto n = PixelToNormalized(k, Eigen::Vector2d(u, v));
-      if (!n) continue;
-      const Eigen::Vector3d dir = r_robot_camera * Eigen::Vector3d(n->x(), n->y(), 1.0);
+      const Eigen::Vector3d dir = r_robot_camera * Eigen::Vector3d(ray[u].x, ray[u].y, 1.0);
       double shade = 0;
       const double t_box = scene.boxes.empty()
                                ? std::numeric_limits<double>::infinity()

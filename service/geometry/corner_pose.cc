@@ -387,7 +387,7 @@ Result<CornerCandidate> SolveCornerClosedForm(const std::array<ObservedRay, 3>& 
 Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
                                           const std::array<LineObservation, 3>& lines,
                                           const std::array<int, 3>& axis_of_line, double focal_px,
-                                          double point_sigma_px) {
+                                          double point_sigma_px, double line_bias_px) {
   const double zc = initial.z_m;
   auto residuals = [&](const Eigen::VectorXd& q, Eigen::VectorXd* r) {
     const CornerPose pose{q[0], q[1], zc, q[2], q[3], q[4]};
@@ -399,7 +399,12 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
       const Eigen::Vector2d normal(-img->direction.y(), img->direction.x());
       // Two points with the same mean and spread along the line as the edge points: their
       // squared distances to a line sum to the points' own, up to a constant.
-      const double weight = std::sqrt(std::max(lines[k].num_points, 1) / 2.0) * focal_px;
+      // Weighted by each line's own noise and independent points (relative to point_sigma_px).
+      const double n = lines[k].independent_points > 0 ? lines[k].independent_points
+                                                       : std::max(lines[k].num_points, 1);
+      const double sigma =
+          lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
+      const double weight = std::sqrt(std::max(n, 1.0) / 2.0) * focal_px / sigma;
       for (int side = 0; side < 2; ++side) {
         const Eigen::Vector2d p =
             lines[k].centroid + (side ? 1.0 : -1.0) * lines[k].spread * lines[k].direction;
@@ -422,10 +427,36 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
   }
   CornerRefinement out;
   out.pose = Canonical(CornerPose{q[0], q[1], zc, q[2], q[3], q[4]});
-  out.covariance = point_sigma_px * point_sigma_px * lu.inverse();
+  const Eigen::Matrix<double, 5, 5> jtj_inverse = lu.inverse();
+  out.covariance = point_sigma_px * point_sigma_px * jtj_inverse;
+  if (line_bias_px > 0) {
+    // Residual k's scale: weight_k * (offset in normalized units); a line offset by b pixels
+    // moves both of its residuals by weight_k * b / focal, fully correlated.
+    Eigen::Matrix<double, 6, 6> bias = Eigen::Matrix<double, 6, 6>::Zero();
+    for (int k = 0; k < 3; ++k) {
+      const double n = lines[k].independent_points > 0 ? lines[k].independent_points
+                                                       : std::max(lines[k].num_points, 1);
+      const double sigma =
+          lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
+      const double weight = std::sqrt(std::max(n, 1.0) / 2.0) / sigma;  // focal cancels
+      bias.block<2, 2>(2 * k, 2 * k).setConstant(std::pow(weight * line_bias_px, 2));
+    }
+    const Eigen::Matrix<double, 5, 6> gain = jtj_inverse * summary.jacobian.transpose();
+    out.covariance += gain * bias * gain.transpose();
+  }
   int total = 0;
   for (const auto& l : lines) total += std::max(l.num_points, 1);
-  out.rms_px = std::sqrt(summary.residuals.squaredNorm() / total);
+  // RMS of the unweighted line residuals (the weights above only shape the covariance).
+  double sum2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double n = lines[k].independent_points > 0 ? lines[k].independent_points
+                                                     : std::max(lines[k].num_points, 1);
+    const double sigma =
+        lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
+    const double scale = std::max(lines[k].num_points, 1) / std::max(n, 1.0) * sigma * sigma;
+    sum2 += scale * (summary.residuals.segment<2>(2 * k).squaredNorm());
+  }
+  out.rms_px = std::sqrt(sum2 / total);
   return out;
 }
 

@@ -94,6 +94,11 @@ struct LineObservation {
   Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  // unit, away from the corner
   double spread = 0;  // standard deviation of the points along the line
   int num_points = 0;
+  // Optional, for the covariance: 1 sigma of one edge point across the line (pixels), and how
+  // many of the points are independent (neighbouring samples that share image data are not).
+  // 0: the common point_sigma_px of RefineCornerPose, and num_points.
+  double point_sigma_px = 0;
+  double independent_points = 0;
 };
 
 struct CornerRefinement {
@@ -103,11 +108,15 @@ struct CornerRefinement {
 };
 
 // Nonlinear least squares of (x, y, pan, tilt, swing) on the line observations (z fixed),
-// from `initial`; covariance for edge-point noise `point_sigma_px`. `focal_px` converts
+// from `initial`; covariance for edge-point noise `point_sigma_px` (or each line's own, see
+// LineObservation). `focal_px` converts
 // normalized units to pixels. `axis_of_line[k]` names the axis line k images.
+// `line_bias_px`: 1 sigma of an offset of each line as a whole (shading across the edge,
+// compression, blur), which more points do not average away; added to the covariance
+// through the same Jacobian.
 Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
                                           const std::array<LineObservation, 3>& lines,
                                           const std::array<int, 3>& axis_of_line, double focal_px,
-                                          double point_sigma_px);
+                                          double point_sigma_px, double line_bias_px = 0);
 
 }  // namespace monocle

@@ -1,6 +1,8 @@
 // Seeded random corner views shared by corner tests and benchmarks.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -31,6 +33,44 @@ inline std::optional<CornerPose> RandomCornerPose(std::mt19937_64& rng, const Ca
       continue;
     }
     return Canonical(p);
+  }
+  return std::nullopt;
+}
+
+// Visible length of each corner edge (X, Y, Z) in the image, pixels: from the corner along
+// the edge's projection until it leaves the image (or the edge ends at `room_m`).
+inline std::array<double, 3> VisibleEdgeLengthsPx(const CornerPose& pose, const CameraIntrinsics& k,
+                                                  double room_m = 8.0) {
+  std::array<double, 3> length{};
+  const Eigen::Vector3d c = CornerToCamera(pose, Eigen::Vector3d::Zero());
+  if (c.z() <= 0) return length;
+  const Eigen::Vector2d corner = NormalizedToPixel(k, c.head<2>() / c.z());
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double t = 0.005; t <= room_m; t += 0.005) {
+      const Eigen::Vector3d p = CornerToCamera(pose, t * Eigen::Vector3d::Unit(axis));
+      if (p.z() <= 0.05) break;
+      const Eigen::Vector2d px = NormalizedToPixel(k, p.head<2>() / p.z());
+      if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;
+      length[axis] = (px - corner).norm();
+    }
+  }
+  return length;
+}
+
+// A view as a robot meets it: the corner anywhere in the frame, 15 px from the border or
+// more, every edge visible for at least 80 px; with `short_edge` one edge is a fifth of the
+// image's width or less.
+inline std::optional<CornerPose> RandomRealisticCornerPose(std::mt19937_64& rng,
+                                                           const CameraIntrinsics& k,
+                                                           bool short_edge) {
+  for (int attempt = 0; attempt < 2000; ++attempt) {
+    const auto p = RandomCornerPose(rng, k, /*margin_px=*/15);
+    if (!p) continue;
+    const auto lengths = VisibleEdgeLengthsPx(*p, k);
+    const double shortest = *std::min_element(lengths.begin(), lengths.end());
+    if (shortest < 80) continue;
+    if (short_edge != (shortest <= 0.2 * k.width_px)) continue;
+    return p;
   }
   return std::nullopt;
 }

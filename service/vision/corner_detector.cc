@@ -2,20 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <string>
 
 namespace monocle {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr int kAngleBins = 360;     // 0.5 degree
-constexpr int kVoteHalfWindow = 4;  // +-2 degrees around the gradient's direction
+constexpr int kAngleBins = 360;         // 0.5 degree
+constexpr int kMinVoteHalfWindow = 4;   // +-2 degrees around the gradient's direction
+constexpr int kMaxVoteHalfWindow = 20;  // +-10 degrees for the weakest edges
 
 struct EdgePixel {
-  float x, y;    // half-resolution pixel
-  float nx, ny;  // unit gradient
+  float x, y;                // half-resolution pixel
+  float nx, ny;              // unit gradient
+  int vote_half_window = 4;  // Hough angle bins either side of the gradient's direction
 };
 
 // A line x cos(a) + y sin(a) = rho at half resolution, with the supporting span.
@@ -28,20 +32,33 @@ struct Segment {
   Eigen::Vector2d End(int i) const { return rho * normal + (i ? t1 : t0) * direction; }
 };
 
-// Sobel, then non-maximum suppression across the edge: the thinning step.
-std::vector<EdgePixel> ThinEdges(const cv::Mat& img, double threshold) {
+// Sobel, then non-maximum suppression across the edge: the thinning step. The threshold
+// follows the image: in flat regions (most of a room) the gradient's two components are
+// Gaussian noise, so its squared magnitude is exponential with median 2 ln 2 sigma_g^2.
+std::vector<EdgePixel> ThinEdges(const cv::Mat& img, const CornerDetectorOptions& options) {
   cv::Mat gx, gy;
   cv::Sobel(img, gx, CV_16S, 1, 0, 3);
   cv::Sobel(img, gy, CV_16S, 0, 1, 3);
   const int w = img.cols, h = img.rows;
   cv::Mat mag(h, w, CV_32S);
+  std::vector<int32_t> sample;
+  sample.reserve(static_cast<size_t>(w) * h / 16 + 16);
   for (int y = 0; y < h; ++y) {
     const auto* px = gx.ptr<int16_t>(y);
     const auto* py = gy.ptr<int16_t>(y);
     auto* m = mag.ptr<int32_t>(y);
     for (int x = 0; x < w; ++x) m[x] = px[x] * px[x] + py[x] * py[x];
+    if (y % 4 == 2)
+      for (int x = 2; x < w - 2; x += 4) sample.push_back(m[x]);
   }
-  const int32_t t2 = static_cast<int32_t>(threshold * threshold);
+  double noise2 = 0;  // sigma_g^2
+  if (!sample.empty()) {
+    std::nth_element(sample.begin(), sample.begin() + sample.size() / 2, sample.end());
+    noise2 = sample[sample.size() / 2] / (2 * std::log(2.0));
+  }
+  const double threshold2 = std::max(options.edge_snr * options.edge_snr * noise2,
+                                     options.min_edge_gradient * options.min_edge_gradient);
+  const int32_t t2 = static_cast<int32_t>(std::min(threshold2, 2e9));
   std::vector<EdgePixel> out;
   for (int y = 1; y < h - 1; ++y) {
     const auto* px = gx.ptr<int16_t>(y);
@@ -69,7 +86,13 @@ std::vector<EdgePixel> ThinEdges(const cv::Mat& img, double threshold) {
       }
       if (v < n1 || v <= n2) continue;
       const float norm = std::sqrt(static_cast<float>(v));
-      out.push_back({static_cast<float>(x), static_cast<float>(y), px[x] / norm, py[x] / norm});
+      // The gradient's direction is uncertain by ~sigma_g / |g| rad: a weak edge's pixels
+      // vote over a wider range of angles, or they never meet in one Hough cell.
+      const double angle_sigma_bins = std::sqrt(noise2) / norm * kAngleBins / kPi;
+      const int window = std::clamp(static_cast<int>(std::ceil(2 * angle_sigma_bins)),
+                                    kMinVoteHalfWindow, kMaxVoteHalfWindow);
+      out.push_back(
+          {static_cast<float>(x), static_cast<float>(y), px[x] / norm, py[x] / norm, window});
     }
   }
   return out;
@@ -103,7 +126,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
     double alpha = std::atan2(e.ny, e.nx);
     if (alpha < 0) alpha += kPi;
     const int a0 = static_cast<int>(std::lround(alpha / kPi * kAngleBins));
-    for (int da = -kVoteHalfWindow; da <= kVoteHalfWindow; ++da) {
+    for (int da = -e.vote_half_window; da <= e.vote_half_window; ++da) {
       const int a = ((a0 + da) % kAngleBins + kAngleBins) % kAngleBins;
       const double rho = e.x * (*cos_table)[a] + e.y * (*sin_table)[a];
       const size_t cell =
@@ -168,7 +191,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
 void SegmentsOfLine(const std::vector<const EdgePixel*>& edges, int line, double alpha, double rho,
                     double min_length, std::vector<Segment>* out) {
   Eigen::Vector2d normal(std::cos(alpha), std::sin(alpha));
-  const double cos_tol = std::cos(12 * kPi / 180);
+  const double cos_tol = std::cos(20 * kPi / 180);  // weak edges: noisy directions
   // The Hough cell is coarse (0.5 degree moves the end of a 500 px line by 2 px): gather a
   // wide band first, fit it, then keep what lies within 1.5 px of the fitted line.
   {
@@ -258,10 +281,10 @@ struct YTriple {
 // point (the paper asks the pairwise intersections to be close together), each segment ending near
 // them and running away from them, and every angle between the three rays above 90 degrees (we
 // allow 80 for lens distortion and the half-resolution Hough). Among the triples that pass, the
-// most supported wins; edges that run to the image border (the paper's check 3) count extra.
-std::optional<YTriple> FindY(const std::vector<Segment>& segments, int w, int h,
-                             double junction_radius) {
-  YTriple best;
+// most supported comes first; edges that run to the image border (the paper's check 3) count extra.
+std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w, int h,
+                                     double junction_radius) {
+  std::vector<YTriple> found;
   const int n = static_cast<int>(segments.size());
   const double min_angle = 80 * kPi / 180;
   for (int i = 0; i < n; ++i) {
@@ -294,14 +317,23 @@ std::optional<YTriple> FindY(const std::vector<Segment>& segments, int w, int h,
           const double tc = s[m]->direction.dot(c);
           // The segment must lie on one side of the corner and start near it. It may run a
           // little past the corner: two nearly collinear edges support each other there.
-          const double ahead = s[m]->t1 - tc, behind = tc - s[m]->t0;
-          const bool forward = ahead >= behind;
-          const double overshoot = forward ? behind : ahead;
+          const double forward_part = s[m]->t1 - tc, backward_part = tc - s[m]->t0;
+          const bool forward = forward_part >= backward_part;
+          const double ahead = std::max(forward_part, backward_part);
+          const double behind = std::min(forward_part, backward_part);
+          const double overshoot = behind;
           const double length = s[m]->t1 - s[m]->t0;
           const double near = std::min(std::abs(s[m]->t0 - tc), std::abs(s[m]->t1 - tc));
-          if (overshoot > std::max(1.5 * junction_radius, 0.15 * length) ||
-              near > 4 * junction_radius)
-            ok = false;
+          // Its pixels past the corner may belong to a nearly collinear edge of the triple
+          // (within 20 degrees of straight on): then up to half its length ahead.
+          bool collinear_partner = false;
+          for (int o = 0; o < 3; ++o) {
+            if (o != m && std::abs(s[o]->direction.dot(s[m]->direction)) > std::cos(kPi / 9))
+              collinear_partner = true;
+          }
+          const double allowed = collinear_partner ? std::max(1.5 * junction_radius, 0.5 * ahead)
+                                                   : std::max(1.5 * junction_radius, 0.15 * length);
+          if (overshoot > allowed || near > 4 * junction_radius) ok = false;
           t.direction[m] = forward ? s[m]->direction : Eigen::Vector2d(-s[m]->direction);
           score += s[m]->support;
           const Eigen::Vector2d far = forward ? s[m]->End(1) : s[m]->End(0);
@@ -316,12 +348,35 @@ std::optional<YTriple> FindY(const std::vector<Segment>& segments, int w, int h,
         // A Y, not an arrow: the three angles around the corner add up to a full turn.
         if (std::abs(a01 + a12 + a02 - 2 * kPi) > 0.05) continue;
         t.score = score;
-        if (t.score > best.score) best = t;
+        found.push_back(t);
       }
     }
   }
-  if (best.score < 0) return std::nullopt;
-  return best;
+  std::sort(found.begin(), found.end(),
+            [](const YTriple& a, const YTriple& b) { return a.score > b.score; });
+  // Best first; the same Y from duplicate segments counts once.
+  std::vector<YTriple> distinct;
+  for (const auto& t : found) {
+    bool seen = false;
+    for (const auto& d : distinct) {
+      bool same_rays = true;
+      for (const auto& ray : t.direction) {
+        bool matched = false;
+        for (const auto& other : d.direction) matched |= ray.dot(other) > std::cos(kPi / 60);
+        same_rays &= matched;
+      }
+      seen |= same_rays && (d.corner - t.corner).norm() < junction_radius;
+    }
+    if (!seen) distinct.push_back(t);
+    if (distinct.size() >= 10) break;
+  }
+  return distinct;
+}
+
+std::string FormatGrey(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.1f", v);
+  return buffer;
 }
 
 float Bilinear(const cv::Mat& img, double x, double y) {
@@ -335,46 +390,107 @@ float Bilinear(const cv::Mat& img, double x, double y) {
 
 }  // namespace
 
-std::vector<Eigen::Vector2d> MeasureEdgePoints(const cv::Mat& grey,
+double EstimateNoiseSigma(const cv::Mat& grey) {
+  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols < 2) return 0;
+  // Histogram of |I(x+1) - I(x)| on every other row; the median is interpolated within its
+  // integer bin, since a few grey levels of noise give only a few distinct differences.
+  std::array<int64_t, 256> histogram{};
+  int64_t count = 0;
+  for (int y = 0; y < grey.rows; y += 2) {
+    const uint8_t* row = grey.ptr<uint8_t>(y);
+    for (int x = 0; x + 1 < grey.cols; ++x) ++histogram[std::abs(row[x + 1] - row[x])];
+    count += grey.cols - 1;
+  }
+  const double half = 0.5 * static_cast<double>(count);
+  double below = 0, median = 0;
+  for (int d = 0; d < 256; ++d) {
+    if (below + histogram[d] >= half) {
+      // Bin d spans |difference| in [d - 0.5, d + 0.5) (bin 0: [0, 0.5)).
+      const double lo = d == 0 ? 0.0 : d - 0.5, width = d == 0 ? 0.5 : 1.0;
+      median = lo + width * (half - below) / std::max<double>(histogram[d], 1);
+      break;
+    }
+    below += histogram[d];
+  }
+  // Median of |N(0, 2 sigma^2)| is 0.6745 * sqrt(2) sigma.
+  return median / (0.6745 * std::sqrt(2.0));
+}
+
+double MinStepGrey(const CornerDetectorOptions& options, double noise_sigma_grey) {
+  return std::max(options.min_step_grey, options.min_step_snr * noise_sigma_grey);
+}
+
+std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
                                                const std::vector<Eigen::Vector2d>& positions,
                                                const std::vector<Eigen::Vector2d>& normals,
                                                double half_width_px, int polarity,
                                                double min_step_grey) {
-  std::vector<Eigen::Vector2d> out;
-  const int r = static_cast<int>(std::ceil(half_width_px)) + 1;
+  constexpr int kAlong = 3;  // profile averaged over +-3 px along the edge
+  constexpr int kStep = 3;   // the step is measured between +-3 px of the edge
+  std::vector<EdgePointSample> out;
+  const int search = static_cast<int>(std::ceil(half_width_px));
+  const int r = search + kStep + 2;
+  const double reach = std::hypot(r, kAlong) + 2;
   std::vector<float> profile(2 * r + 1), deriv(2 * r + 1);
   for (size_t i = 0; i < positions.size(); ++i) {
     const Eigen::Vector2d& p = positions[i];
     const Eigen::Vector2d& n = normals[i];
-    const Eigen::Vector2d lo = p - (r + 1) * n.cwiseAbs(), hi = p + (r + 1) * n.cwiseAbs();
-    if (std::min(lo.x(), p.x() - r - 1) < 0 || std::min(lo.y(), p.y() - r - 1) < 0 ||
-        std::max(hi.x(), p.x() + r + 1) > grey.cols - 2 ||
-        std::max(hi.y(), p.y() + r + 1) > grey.rows - 2) {
+    if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
+        p.y() > grey.rows - 1 - reach) {
       continue;
     }
+    const Eigen::Vector2d t(-n.y(), n.x());
     for (int o = -r; o <= r; ++o) {
-      const Eigen::Vector2d q = p + o * n;
-      profile[o + r] = Bilinear(grey, q.x(), q.y());
+      float sum = 0;
+      for (int a = -kAlong; a <= kAlong; ++a) {
+        const Eigen::Vector2d q = p + o * n + a * t;
+        sum += Bilinear(grey, q.x(), q.y());
+      }
+      profile[o + r] = sum / (2 * kAlong + 1);
     }
     int best = -1;
     float best_value = 0;
-    for (int o = 1; o < 2 * r; ++o) {
-      deriv[o] = polarity * 0.5f * (profile[o + 1] - profile[o - 1]);
-      if (deriv[o] > best_value) {
+    for (int o = r - search - 1; o <= r + search + 1; ++o) {
+      // Derivative smoothed by [1 2 1] / 4 over the central differences.
+      deriv[o] =
+          0.125f * (profile[o + 2] + 2 * profile[o + 1] - 2 * profile[o - 1] - profile[o - 2]);
+    }
+    // Polarity 0: whichever sign is steeper here.
+    float sign = static_cast<float>(polarity);
+    if (polarity == 0) {
+      float lo = 0, hi = 0;
+      for (int o = r - search; o <= r + search; ++o) {
+        lo = std::min(lo, deriv[o]);
+        hi = std::max(hi, deriv[o]);
+      }
+      sign = hi >= -lo ? 1.0f : -1.0f;
+    }
+    for (int o = r - search - 1; o <= r + search + 1; ++o) {
+      deriv[o] *= sign;
+      if (o >= r - search && o <= r + search && deriv[o] > best_value) {
         best_value = deriv[o];
         best = o;
       }
     }
-    // A step of height s gives a derivative peak near s / 2 per pixel of blur; require a
-    // clear maximum inside the window.
-    if (best <= 1 || best >= 2 * r - 1 || best_value < 0.5 * min_step_grey) continue;
+    if (best <= r - search || best >= r + search) continue;  // a clear maximum inside
+    const double step = profile[best + kStep] - profile[best - kStep];
+    if (sign * step < min_step_grey) continue;
     const double left = deriv[best - 1], mid = deriv[best], right = deriv[best + 1];
     const double denom = left - 2 * mid + right;
     const double offset = denom < 0 ? 0.5 * (left - right) / denom : 0.0;
     if (std::abs(best - r + offset) > half_width_px) continue;
-    out.push_back(p + (best - r + offset) * n);
+    out.push_back({p + (best - r + offset) * n, step});
   }
   return out;
+}
+
+std::vector<EdgePointSample> MajoritySign(std::vector<EdgePointSample> samples) {
+  int balance = 0;
+  for (const auto& s : samples) balance += s.step_grey > 0 ? 1 : -1;
+  std::erase_if(samples,
+                [&](const EdgePointSample& s) { return (s.step_grey > 0) != (balance > 0); });
+  if (samples.size() < 3) samples.clear();  // a lone point or two in a chunk: noise
+  return samples;
 }
 
 namespace {
@@ -415,7 +531,12 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
   out.scale = std::min(grey.cols, grey.rows) >= 400 ? 0.5 : 1.0;
   out.small = grey;
   if (out.scale < 1) cv::resize(grey, out.small, cv::Size(), out.scale, out.scale, cv::INTER_AREA);
-  auto edges = ThinEdges(out.small, options.edge_threshold);
+  // A Gaussian before the gradient: edges between alike-painted surfaces are a few grey
+  // levels high, and smoothing over ~2 px raises a long edge's gradient above the noise
+  // (the paper's Sobel alone is not enough at a contrast-to-noise of 2).
+  cv::Mat smooth;
+  cv::GaussianBlur(out.small, smooth, cv::Size(7, 7), 1.0, 1.0, cv::BORDER_REPLICATE);
+  auto edges = ThinEdges(smooth, options);
   if (k != nullptr && k->HasDistortion()) {
     // Move every edge pixel (and its gradient) to where an undistorted camera sees it.
     for (auto& e : edges) {
@@ -431,11 +552,13 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
     }
   }
   const double min_length = options.min_edge_length_px * out.scale;
-  // Undistorted points may leave the frame a little: size the accumulator for 1.25x.
+  // Undistorted points may leave the frame a little: size the accumulator for 1.25x. A peak
+  // needs 70 % of the shortest edge's pixels (the ends and the junction blur away); the
+  // segment itself must still be that long.
   const auto peaks = HoughPeaks(edges, out.small.cols * 5 / 4, out.small.rows * 5 / 4,
-                                static_cast<int>(min_length), options.max_lines);
+                                static_cast<int>(0.7 * min_length), options.max_lines);
   // Edges bucketed by gradient direction (1 degree, modulo 180): a line only looks at the
-  // edges within the 12 degrees its support test accepts.
+  // edges within the 20 degrees its support test accepts.
   std::array<std::vector<const EdgePixel*>, 180> buckets;
   for (const auto& e : edges) {
     double deg = std::atan2(e.ny, e.nx) * 180 / kPi;
@@ -447,12 +570,23 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
     const double alpha = peaks[i].angle_bin * kPi / kAngleBins;
     const int center = static_cast<int>(alpha * 180 / kPi);
     nearby.clear();
-    for (int b = center - 13; b <= center + 13; ++b) {
+    for (int b = center - 21; b <= center + 21; ++b) {
       const auto& bucket = buckets[((b % 180) + 180) % 180];
       nearby.insert(nearby.end(), bucket.begin(), bucket.end());
     }
     SegmentsOfLine(nearby, static_cast<int>(i), alpha, peaks[i].rho_bin, min_length, &out.segments);
   }
+  // Several peaks of one wide Hough ridge refit to the same segment: keep one.
+  std::vector<Segment> distinct;
+  for (const auto& seg : out.segments) {
+    bool seen = false;
+    for (const auto& d : distinct) {
+      seen |= (((seg.End(0) - d.End(0)).norm() < 2 && (seg.End(1) - d.End(1)).norm() < 2) ||
+               ((seg.End(0) - d.End(1)).norm() < 2 && (seg.End(1) - d.End(0)).norm() < 2));
+    }
+    if (!seen) distinct.push_back(seg);
+  }
+  out.segments = std::move(distinct);
   return out;
 }
 
@@ -460,6 +594,163 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
 Eigen::Vector2d ToImage(const Eigen::Vector2d& p, double scale, const CameraIntrinsics* k) {
   const Eigen::Vector2d full = ToFull(p, scale);
   return k != nullptr && k->HasDistortion() ? RedistortPixel(*k, full) : full;
+}
+
+// Edge points from the corner outwards to the image border: measured in chunks of 32 px
+// along the current line, which is refitted to the points found so far (the last 300 px of
+// them) before the next chunk. A Hough direction from a short segment near the corner is a
+// degree off; a straight ray would leave a long edge long before the border, and lens
+// distortion bends the edge away from any straight ray.
+std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2d& corner,
+                                       Eigen::Vector2d direction, double min_step) {
+  constexpr double kSpacing = 2, kChunk = 32, kMemory = 300;
+  std::vector<EdgePointSample> found;
+  Eigen::Vector2d origin = corner;  // the current line passes here along `direction`
+  double t = 8;                     // distance along the line from `origin`
+  int misses = 0;                   // chunks in a row without a point
+  // A long gap (contrast fading where shading evens the two surfaces out) is crossed on the
+  // last line; the trace ends at the border or after 8 empty chunks.
+  while (misses < 8) {
+    std::vector<Eigen::Vector2d> positions, normals;
+    const Eigen::Vector2d normal(-direction.y(), direction.x());
+    bool inside = true;
+    for (double s = 0; s < kChunk; s += kSpacing, t += kSpacing) {
+      const Eigen::Vector2d p = origin + t * direction;
+      if (p.x() < 0 || p.y() < 0 || p.x() > grey.cols - 1 || p.y() > grey.rows - 1) {
+        inside = false;
+        break;
+      }
+      positions.push_back(p);
+      normals.push_back(normal);
+    }
+    const auto chunk = MajoritySign(MeasureEdgePoints(grey, positions, normals, 4, 0, min_step));
+    misses = chunk.empty() ? misses + 1 : 0;
+    found.insert(found.end(), chunk.begin(), chunk.end());
+    if (!inside) break;
+    // Refit on the recent points: total least squares.
+    const Eigen::Vector2d last = origin + t * direction;
+    std::vector<Eigen::Vector2d> recent;
+    for (const auto& f : found)
+      if ((f.point_px - last).norm() < kMemory) recent.push_back(f.point_px);
+    if (recent.size() < 8) continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& q : recent) mean += q;
+    mean /= static_cast<double>(recent.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const auto& q : recent) scatter += (q - mean) * (q - mean).transpose();
+    const double angle = 0.5 * std::atan2(2 * scatter(0, 1), scatter(0, 0) - scatter(1, 1));
+    Eigen::Vector2d fitted(std::cos(angle), std::sin(angle));
+    if (fitted.dot(direction) < 0) fitted = -fitted;
+    if (fitted.dot(direction) < std::cos(10 * kPi / 180)) continue;  // noise, not the edge
+    direction = fitted;
+    origin = mean;
+    t = direction.dot(last - mean);
+  }
+  return found;
+}
+
+// Subpixel edge points at full resolution along each edge of one Y, from just off the corner
+// (where the three edges blur into each other) to the image border.
+template <typename ToFull>
+Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges out,
+                             const ToFull& to_full, double min_step) {
+  out.corner_px = to_full(y.corner);
+  for (int m = 0; m < 3; ++m) {
+    // The ray's direction in the image, where it leaves the corner.
+    const Eigen::Vector2d d =
+        (to_full(y.corner + 10 * y.direction[m]) - out.corner_px).normalized();
+    out.direction[m] = d;
+    out.points_px[m].clear();
+    out.step_grey[m].clear();
+    for (const auto& sample : TraceEdge(grey, out.corner_px, d, min_step)) {
+      out.points_px[m].push_back(sample.point_px);
+      out.step_grey[m].push_back(sample.step_grey);
+    }
+    // Polarity: the sign most points near the corner have.
+    int votes = 0;
+    for (size_t i = 0; i < out.points_px[m].size() && i < 40; ++i)
+      votes += out.step_grey[m][i] > 0 ? 1 : -1;
+    out.polarity[m] = votes >= 0 ? 1 : -1;
+    if (out.points_px[m].size() < 10) {
+      return MakeError(ErrorCode::kNotFound, "a corner edge has too little contrast to measure (" +
+                                                 std::to_string(out.points_px[m].size()) +
+                                                 " points with a step of at least " +
+                                                 FormatGrey(min_step) + " grey levels at noise " +
+                                                 FormatGrey(out.noise_sigma_grey) + ")");
+    }
+  }
+  return out;
+}
+
+// Why no Y was found, in the user's terms: how many edges, whether two of them meet, and
+// how strong the strongest third edge leaving their junction is against the noise.
+std::string DiagnoseMissingY(const cv::Mat& grey, const std::vector<Segment>& segments,
+                             double scale, const CameraIntrinsics* k, double noise_sigma,
+                             double junction_radius) {
+  // Distinct lines (segments of one Hough line count once).
+  std::vector<const Segment*> distinct;
+  for (const auto& s : segments) {
+    bool seen = false;
+    for (const auto* d : distinct)
+      seen |= std::abs(d->direction.dot(s.direction)) > std::cos(kPi / 60) &&
+              std::abs(d->rho - s.normal.dot(d->normal) * s.rho) < 3;
+    if (!seen) distinct.push_back(&s);
+  }
+  const std::string edges = std::to_string(distinct.size()) + " straight edge" +
+                            (distinct.size() == 1 ? "" : "s") + " found";
+  if (distinct.size() < 2) return edges + "; a corner needs three meeting in a Y";
+  // The best supported pair whose segments end near their lines' intersection.
+  double best_support = -1;
+  Eigen::Vector2d junction = Eigen::Vector2d::Zero();
+  std::array<Eigen::Vector2d, 2> rays{Eigen::Vector2d::UnitX(), Eigen::Vector2d::UnitY()};
+  for (size_t i = 0; i < distinct.size(); ++i) {
+    for (size_t j = i + 1; j < distinct.size(); ++j) {
+      const Segment& a = *distinct[i];
+      const Segment& b = *distinct[j];
+      Eigen::Matrix2d m;
+      m << a.normal.transpose(), b.normal.transpose();
+      if (std::abs(m.determinant()) < 0.2) continue;  // nearly parallel
+      const Eigen::Vector2d c = m.inverse() * Eigen::Vector2d(a.rho, b.rho);
+      auto end_near = [&](const Segment& s, Eigen::Vector2d* ray) {
+        const double tc = s.direction.dot(c);
+        const double d0 = std::abs(s.t0 - tc), d1 = std::abs(s.t1 - tc);
+        *ray = d0 < d1 ? s.direction : Eigen::Vector2d(-s.direction);
+        return std::min(d0, d1) < 4 * junction_radius;
+      };
+      std::array<Eigen::Vector2d, 2> r{Eigen::Vector2d::UnitX(), Eigen::Vector2d::UnitY()};
+      if (!end_near(a, &r[0]) || !end_near(b, &r[1])) continue;
+      if (a.support + b.support > best_support) {
+        best_support = a.support + b.support;
+        junction = c;
+        rays = r;
+      }
+    }
+  }
+  if (best_support < 0) return edges + ", but no two of them meet at a corner";
+  // Around the junction, the strongest straight step in any other direction.
+  const Eigen::Vector2d corner = ToImage(junction, scale, k);
+  double strongest = 0;
+  for (int deg = 0; deg < 360; deg += 3) {
+    const Eigen::Vector2d d(std::cos(deg * kPi / 180), std::sin(deg * kPi / 180));
+    if (d.dot(rays[0]) > std::cos(kPi / 9) || d.dot(rays[1]) > std::cos(kPi / 9)) continue;
+    std::vector<Eigen::Vector2d> positions, normals;
+    for (double t = 10; t < 130; t += 2) {
+      positions.push_back(corner + t * d);
+      normals.emplace_back(-d.y(), d.x());
+    }
+    for (int sign : {+1, -1}) {
+      const auto found = MeasureEdgePoints(grey, positions, normals, 3, sign, 0.5);
+      if (found.size() < positions.size() / 2) continue;
+      std::vector<double> steps;
+      for (const auto& f : found) steps.push_back(std::abs(f.step_grey));
+      std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+      strongest = std::max(strongest, steps[steps.size() / 2]);
+    }
+  }
+  char where[64];
+  std::snprintf(where, sizeof where, " at (%.0f, %.0f) px", corner.x(), corner.y());
+  return edges + "; 2 meet" + where + " but the third is too weak (contrast " +
+         FormatGrey(strongest) + " grey levels at noise " + FormatGrey(noise_sigma) + ")";
 }
 
 }  // namespace
@@ -479,6 +770,14 @@ std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
 
 Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options,
                                       const CameraIntrinsics* k) {
+  auto candidates = DetectCornerCandidates(grey, options, k);
+  if (!candidates) return candidates.error();
+  return std::move(candidates->front());
+}
+
+Result<std::vector<CornerEdges>> DetectCornerCandidates(const cv::Mat& grey,
+                                                        const CornerDetectorOptions& options,
+                                                        const CameraIntrinsics* k) {
   if (grey.empty() || grey.type() != CV_8UC1) {
     return MakeError(ErrorCode::kInvalidArgument, "corner detection needs an 8-bit grey image");
   }
@@ -494,48 +793,30 @@ Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorO
   CornerEdges out;
   for (const auto& s : segments)
     out.hough_segments.push_back({to_full(s.End(0)), to_full(s.End(1)), s.support});
-  const auto y =
-      FindY(segments, stage.small.cols, stage.small.rows, options.junction_radius_px * scale);
-  if (!y) {
+  const auto candidates = FindYCandidates(segments, stage.small.cols, stage.small.rows,
+                                          options.junction_radius_px * scale);
+  out.noise_sigma_grey = EstimateNoiseSigma(grey);
+  const double min_step = MinStepGrey(options, out.noise_sigma_grey);
+  if (candidates.empty()) {
     return MakeError(ErrorCode::kNotFound,
-                     "no ceiling corner found: no three edges meet in a Y (found " +
-                         std::to_string(segments.size()) + " straight edges)");
+                     "no ceiling corner found: " +
+                         DiagnoseMissingY(grey, segments, scale, k, out.noise_sigma_grey,
+                                          options.junction_radius_px * scale));
   }
-  out.corner_px = to_full(y->corner);
-
-  // Subpixel edge points at full resolution along each ray, from just off the corner (where
-  // the three edges blur into each other) to the image border.
-  const double max_t = std::hypot(grey.cols, grey.rows);
-  for (int m = 0; m < 3; ++m) {
-    // The ray's direction in the image, where it leaves the corner.
-    const Eigen::Vector2d d =
-        (to_full(y->corner + 10 * y->direction[m]) - out.corner_px).normalized();
-    const Eigen::Vector2d n(-d.y(), d.x());
-    out.direction[m] = d;
-    std::vector<Eigen::Vector2d> positions, normals;
-    for (double t = 8; t < max_t; t += 2) {
-      const Eigen::Vector2d p = out.corner_px + t * d;
-      if (p.x() < 0 || p.y() < 0 || p.x() > grey.cols - 1 || p.y() > grey.rows - 1) break;
-      positions.push_back(p);
-      normals.push_back(n);
-    }
-    // Polarity: the sign the derivative has on most of the first samples.
-    int votes = 0;
-    const size_t probe = std::min<size_t>(positions.size(), 40);
-    const std::vector<Eigen::Vector2d> first(positions.begin(), positions.begin() + probe);
-    const std::vector<Eigen::Vector2d> first_normals(normals.begin(), normals.begin() + probe);
-    votes += static_cast<int>(
-        MeasureEdgePoints(grey, first, first_normals, 4, +1, options.min_step_grey).size());
-    votes -= static_cast<int>(
-        MeasureEdgePoints(grey, first, first_normals, 4, -1, options.min_step_grey).size());
-    out.polarity[m] = votes >= 0 ? 1 : -1;
-    out.points_px[m] =
-        MeasureEdgePoints(grey, positions, normals, 4, out.polarity[m], options.min_step_grey);
-    if (out.points_px[m].size() < 10) {
-      return MakeError(ErrorCode::kNotFound, "a corner edge has too little contrast to measure");
+  // The best supported Y first; a Y whose edges cannot be measured at full resolution
+  // (clutter or shading that looked like an edge at half resolution) is left out.
+  std::vector<CornerEdges> measured;
+  std::string why;
+  for (const auto& y : candidates) {
+    auto edges = MeasureY(grey, y, out, to_full, min_step);
+    if (edges) {
+      measured.push_back(std::move(*edges));
+    } else if (why.empty()) {
+      why = edges.error().message;
     }
   }
-  return out;
+  if (measured.empty()) return MakeError(ErrorCode::kNotFound, why);
+  return measured;
 }
 
 }  // namespace monocle

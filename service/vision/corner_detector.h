@@ -18,12 +18,23 @@
 namespace monocle {
 
 struct CornerDetectorOptions {
-  double edge_threshold = 32;  // Sobel magnitude (3x3) at half resolution; ~10 grey levels of step
-  int max_lines = 40;          // Hough peaks considered
+  // Edges are decided relative to the image's own noise, not by constants: an edge pixel's
+  // gradient (half resolution, after a Gaussian of sigma 1) must exceed `edge_snr` times
+  // the gradient noise estimated from the image, and at least `min_edge_gradient`.
+  double edge_snr = 3.0;
+  double min_edge_gradient = 8;    // Sobel units, ~3 grey levels of step; for noiseless images
+  int max_lines = 80;              // Hough peaks considered
   double min_edge_length_px = 60;  // shortest corner edge, full resolution
   double junction_radius_px = 12;  // how far apart the pairwise intersections may be
-  double min_step_grey = 4;        // weakest edge contrast measured at full resolution
+  // Edge points at full resolution: step across the edge at least this many noise sigmas,
+  // and at least `min_step_grey`.
+  double min_step_snr = 1.0;
+  double min_step_grey = 1.5;
 };
+
+// Pixel noise of an image, grey levels (1 sigma): from the median absolute difference of
+// horizontally adjacent pixels, which flat surfaces dominate in a room.
+double EstimateNoiseSigma(const cv::Mat& grey);
 
 // One image line found by the Hough stage (half resolution is hidden from callers).
 struct HoughSegment {
@@ -37,7 +48,9 @@ struct CornerEdges {
   // Subpixel edge points along each edge, full-resolution (distorted) pixels. Points on
   // clutter crossing the edge are still here; the fit rejects them.
   std::array<std::vector<Eigen::Vector2d>, 3> points_px;
+  std::array<std::vector<double>, 3> step_grey;  // signed step across the edge at each point
   std::array<int, 3> polarity{};  // sign of the intensity derivative along the left normal
+  double noise_sigma_grey = 0;    // EstimateNoiseSigma of the image
   std::vector<HoughSegment> hough_segments;  // every segment seen, for overlays
 };
 
@@ -50,6 +63,13 @@ struct CornerEdges {
 Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options,
                                       const CameraIntrinsics* intrinsics = nullptr);
 
+// Every Y worth trying (up to 10), best supported first, each measured as DetectCornerEdges
+// does: a Y the image supports may still be rejected by the pose (not a corner seen from
+// inside a room), and then the next one is the corner.
+Result<std::vector<CornerEdges>> DetectCornerCandidates(
+    const cv::Mat& grey, const CornerDetectorOptions& options,
+    const CameraIntrinsics* intrinsics = nullptr);
+
 // The straight edges the Hough stage finds (full-resolution pixels), for overlays and
 // diagnosis when no corner is found.
 std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
@@ -57,12 +77,27 @@ std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
                                               const CameraIntrinsics* intrinsics = nullptr);
 
 // Subpixel edge points near predicted positions: for each (position, unit normal) the
-// intensity derivative along the normal within +-half_width_px, its maximum refined by a
-// parabola. `polarity` +1 or -1: the sign the derivative must have. Misses are skipped.
-std::vector<Eigen::Vector2d> MeasureEdgePoints(const cv::Mat& grey,
+// intensity profile along the normal, averaged over +-3 px along the edge (so a step of a few
+// grey levels stands out of the noise), its steepest rise within +-half_width_px refined by a
+// parabola. `polarity` +1 or -1: the sign the derivative must have; 0: either, whichever
+// is steeper at that place. A point is kept when
+// the step across it (over +-3 px) is at least `min_step_grey`. Misses are skipped.
+struct EdgePointSample {
+  Eigen::Vector2d point_px;
+  double step_grey = 0;  // signed along the normal
+};
+std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
                                                const std::vector<Eigen::Vector2d>& positions_px,
                                                const std::vector<Eigen::Vector2d>& normals,
                                                double half_width_px, int polarity,
                                                double min_step_grey);
+
+// One short stretch of an edge (a chunk of neighbouring samples): keeps the points whose
+// step has the sign most of them have, none if fewer than 3 agree. Along one edge the
+// contrast may fade and change sign where shading evens the two surfaces out.
+std::vector<EdgePointSample> MajoritySign(std::vector<EdgePointSample> samples);
+
+// The weakest step an edge point may have in this image (options and noise).
+double MinStepGrey(const CornerDetectorOptions& options, double noise_sigma_grey);
 
 }  // namespace monocle

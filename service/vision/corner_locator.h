@@ -1,6 +1,6 @@
 // Camera pose from one image of a ceiling corner: detection (corner_detector), line fits in
 // undistorted coordinates, the paper's constrained refit, the closed form of
-// service/geometry/corner_pose and its refinement.
+// service/geometry/corner_pose and its refinement; then how well the image supports the pose.
 #pragma once
 
 #include <Eigen/Core>
@@ -8,6 +8,7 @@
 #include <array>
 #include <opencv2/core.hpp>
 #include <ostream>
+#include <string>
 
 #include "service/common/result.h"
 #include "service/geometry/camera_model.h"
@@ -15,6 +16,22 @@
 #include "service/vision/corner_detector.h"
 
 namespace monocle {
+
+// How well one edge of the corner is seen.
+struct EdgeSupport {
+  double length_px = 0;          // corner to the furthest edge point used
+  double visible_length_px = 0;  // how long the pose says the edge runs in the image
+  double coverage = 0;           // fraction of the visible edge where points were measured
+  double contrast_grey = 0;      // median step across the edge, grey levels
+  double contrast_to_noise = 0;  // contrast_grey / the image's noise sigma
+  double rms_px = 0;             // RMS distance of its points to the line the pose predicts
+  double sigma_px = 0;           // 1 sigma of the fitted line's position at its middle
+  int points = 0;                // edge points used
+};
+
+// Whether the pose came from a full detection or from following the previous frame's edges.
+enum class CornerSource { kDetected, kTracked };
+const char* ToString(CornerSource source);
 
 struct CornerLocation {
   CornerPose pose;
@@ -26,15 +43,40 @@ struct CornerLocation {
   std::array<Eigen::Vector2d, 3> line_end_px;  // far end of the measured X, Y and Z edges
   std::array<int, 3> points_per_line{};        // inlier edge points of X, Y, Z
   double rms_px = 0;                           // RMS distance of edge points to the fitted lines
-  CornerEdges edges;                           // what the detector saw (overlays)
+  std::array<EdgeSupport, 3> support;          // X, Y, Z
+  double noise_sigma_grey = 0;                 // the image's noise
+  // Suspect: the edges do not support the pose consistently, or support it too weakly to
+  // trust (see `suspect_reason`). Still a pose; never silently dropped or silently trusted.
+  bool suspect = false;
+  std::string suspect_reason;
+  CornerSource source = CornerSource::kDetected;
+  CornerEdges edges;  // what the detector saw (overlays)
 
   Eigen::Matrix<double, 5, 1> Sigma() const { return covariance.diagonal().cwiseSqrt(); }
 };
 
 std::ostream& operator<<(std::ostream& os, const CornerLocation& c);
 
+// When a pose is marked suspect.
+struct CornerQualityOptions {
+  double min_coverage = 0.3;           // an edge found on less of its visible length
+  double min_contrast_to_noise = 2.0;  // an edge fainter than this against the noise
+  double max_edge_rms_px = 0.8;        // an edge's points further than this from the pose's line
+  double max_relative_sigma = 0.02;    // horizontal 1 sigma over the horizontal distance
+};
+
 Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics& intrinsics,
                                     double ceiling_distance_m,
-                                    const CornerDetectorOptions& options = {});
+                                    const CornerDetectorOptions& options = {},
+                                    const CornerQualityOptions& quality = {});
+
+// The pose from edges already found (by the detector, or predicted by a tracker). With
+// `previous`, edges[k] is axis k's and the refinement starts from that pose (no closed form).
+Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey,
+                                             const CameraIntrinsics& intrinsics,
+                                             double ceiling_distance_m, CornerEdges edges,
+                                             const CornerDetectorOptions& options,
+                                             const CornerQualityOptions& quality,
+                                             const CornerPose* previous = nullptr);
 
 }  // namespace monocle
