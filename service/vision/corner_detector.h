@@ -51,6 +51,7 @@ struct CornerEdges {
   std::array<std::vector<double>, 3> step_grey;  // signed step across the edge at each point
   std::array<int, 3> polarity{};  // sign of the intensity derivative along the left normal
   double noise_sigma_grey = 0;    // EstimateNoiseSigma of the image
+  double sample_spacing_px = 2;   // distance between neighbouring edge points along an edge
   std::vector<HoughSegment> hough_segments;  // every segment seen, for overlays
 };
 

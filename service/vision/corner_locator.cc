@@ -9,8 +9,9 @@
 namespace monocle {
 namespace {
 
-// Edge points are sampled every 2 px, each from a profile averaged over 7 px along the edge.
-constexpr double kIndependentFraction = 2.0 / 7.0;
+// Each edge point comes from a profile averaged over 7 px along the edge: points closer
+// than that share image data. The fraction of independent ones is spacing / 7 px.
+constexpr double kProfileWindowPx = 7.0;
 // A whole edge may sit this far (1 sigma, pixels) from where its points say: shading that
 // differs across the edge, JPEG blocks and blur shift the steepest rise a little, the same
 // way along the whole edge. Chosen on the realistic development renders (seeds 7 and 8) so
@@ -90,9 +91,10 @@ void Undistort(const CameraIntrinsics& k, const std::vector<Eigen::Vector2d>& px
 
 // One edge: a first fit of the detector's points, then a second pass along the fitted line
 // as the lens bends it, with a narrower window (a straight first pass drifts off a distorted
-// edge far from the corner), and the final robust fit. Updates the edge's points.
+// edge far from the corner), and the final robust fit. Updates the edge's points. Without
+// `second_pass`, the first fit.
 std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, int m,
-                               double min_step, CornerEdges* edges) {
+                               double min_step, bool second_pass, CornerEdges* edges) {
   const double focal = 0.5 * (k.fx + k.fy);
   const double floor_sigma = 0.05 / focal;  // no edge is measured better than 0.05 px
   std::vector<Eigen::Vector2d> points;
@@ -100,6 +102,12 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   Undistort(k, edges->points_px[m], edges->step_grey[m], &points, &steps);
   auto first = RobustLineFit(points, steps, floor_sigma);
   if (!first) return std::nullopt;
+  if (!second_pass) {
+    if (first->direction.dot(first->centroid -
+                             PixelToNormalized(k, edges->corner_px).value_or(first->centroid)) < 0)
+      first->direction = -first->direction;
+    return first;
+  }
   const Eigen::Vector2d corner_n = PixelToNormalized(k, edges->corner_px).value_or(first->centroid);
   Eigen::Vector2d dir = first->direction;
   if (dir.dot(first->centroid - corner_n) < 0) dir = -dir;
@@ -180,7 +188,8 @@ std::string Format(const char* format, double a, double b = 0) {
 // Per-edge support against the refined pose, and whether to call the pose suspect.
 void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits,
                    const std::array<int, 3>& axis_of_line, const Eigen::Vector2d& corner_n,
-                   const CornerQualityOptions& quality, CornerLocation* out) {
+                   const CornerQualityOptions& quality, double independent_fraction,
+                   double spacing_px, CornerLocation* out) {
   const double focal = 0.5 * (k.fx + k.fy);
   const Eigen::Vector3d c_cam = CornerToCamera(out->pose, Eigen::Vector3d::Zero());
   const Eigen::Vector2d c2 = c_cam.head<2>() / c_cam.z();
@@ -210,23 +219,30 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
     out->points_per_line[axis] = s.points;
     s.length_px = (out->line_end_px[axis] - out->corner_px).norm();
     s.visible_length_px = VisibleLengthPx(k, out->pose, axis, out->corner_px);
-    // Points are 2 px apart from 8 px off the corner.
-    s.coverage = std::min(1.0, 2.0 * s.points / std::max(s.visible_length_px - 8, 2.0));
+    // Points are spacing_px apart from 8 px off the corner.
+    s.coverage = std::min(1.0, spacing_px * s.points / std::max(s.visible_length_px - 8, 2.0));
     std::vector<double> steps;
     for (double step : fit.inlier_steps) steps.push_back(std::abs(step));
     std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
     s.contrast_grey = steps.empty() ? 0 : steps[steps.size() / 2];
     s.contrast_to_noise = s.contrast_grey / std::max(out->noise_sigma_grey, 0.5);
-    const double independent = std::max(2.0, s.points * kIndependentFraction);
+    const double independent = std::max(2.0, s.points * independent_fraction);
     s.sigma_px = fit.normal_rms * focal / std::sqrt(independent);
+    // Scatter about the pose's line = scatter about its own line + the lines' separation.
+    const double own_rms_px = fit.normal_rms * focal;
+    s.misfit_px = std::sqrt(std::max(0.0, s.rms_px * s.rms_px - own_rms_px * own_rms_px));
+    const double allowed =
+        std::max(quality.min_edge_misfit_px,
+                 quality.max_edge_misfit_sigmas * std::hypot(s.sigma_px, kLineBiasPx));
     const std::string edge = std::string("edge ") + kAxis[axis];
     if (s.coverage < quality.min_coverage)
       reasons.push_back(edge + Format(" found on %.0f %% of its visible length", 100 * s.coverage));
     if (s.contrast_to_noise < quality.min_contrast_to_noise)
       reasons.push_back(edge + Format(" contrast %.1f grey levels at noise %.1f", s.contrast_grey,
                                       out->noise_sigma_grey));
-    if (s.rms_px > quality.max_edge_rms_px)
-      reasons.push_back(edge + Format(" lies %.2f px (RMS) off the pose's line", s.rms_px));
+    if (s.misfit_px > allowed)
+      reasons.push_back(
+          edge + Format(" lies %.2f px off the pose's line (allowed %.2f)", s.misfit_px, allowed));
   }
   out->rms_px = std::sqrt(sum2 / std::max(total, 1));
   const double horizontal = std::hypot(out->pose.x_m, out->pose.y_m);
@@ -247,6 +263,8 @@ const char* ToString(CornerSource source) {
   return source == CornerSource::kTracked ? "tracked" : "detected";
 }
 
+std::ostream& operator<<(std::ostream& os, CornerSource source) { return os << ToString(source); }
+
 std::ostream& operator<<(std::ostream& os, const CornerLocation& c) {
   os << "CornerLocation{" << c.pose << " sigma=(" << c.Sigma().transpose() << ") corner_px=("
      << c.corner_px.transpose() << ") rms=" << c.rms_px << " px " << ToString(c.source);
@@ -263,13 +281,14 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   const double min_step = MinStepGrey(options, edges.noise_sigma_grey);
   std::array<LineFit, 3> fits;
   for (int m = 0; m < 3; ++m) {
-    auto fit = FitEdge(grey, k, m, min_step, &edges);
+    auto fit = FitEdge(grey, k, m, min_step, /*second_pass=*/true, &edges);
     if (!fit) return MakeError(ErrorCode::kNotFound, "a corner edge could not be fitted");
     fits[m] = std::move(*fit);
   }
   const auto corner = ConstrainedCorner(fits);
   if (!corner) return MakeError(ErrorCode::kDegenerate, "the corner edges are parallel");
 
+  const double independent_fraction = std::min(1.0, edges.sample_spacing_px / kProfileWindowPx);
   std::array<ObservedRay, 3> rays;
   std::array<LineObservation, 3> observations;
   double point_sigma2 = 0;
@@ -292,7 +311,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     // Each point averages the image over 7 px along the edge and they are 2 px apart: about
     // 2/7 of them carry independent noise. (Weighting each line by its own scatter instead of
     // the pooled one made the median error 40 % worse on the realistic development set.)
-    obs.independent_points = std::max(2.0, obs.num_points * kIndependentFraction);
+    obs.independent_points = std::max(2.0, obs.num_points * independent_fraction);
     point_sigma2 += std::pow(fits[m].normal_rms * focal, 2) * obs.num_points;
     total_points += obs.num_points;
   }
@@ -324,7 +343,8 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     return MakeError(ErrorCode::kDegenerate, "the refined pose puts the corner behind the camera");
   }
   out.corner_px = NormalizedToPixel(k, c_cam.head<2>() / c_cam.z());
-  AssessSupport(k, fits, axis_of_line, *corner, quality, &out);
+  AssessSupport(k, fits, axis_of_line, *corner, quality, independent_fraction,
+                edges.sample_spacing_px, &out);
   // The tracker relies on edges listed as X, Y, Z: reorder what the detector found.
   CornerEdges ordered = edges;
   for (int m = 0; m < 3; ++m) {

@@ -26,12 +26,14 @@ struct EdgeSupport {
   double contrast_to_noise = 0;  // contrast_grey / the image's noise sigma
   double rms_px = 0;             // RMS distance of its points to the line the pose predicts
   double sigma_px = 0;           // 1 sigma of the fitted line's position at its middle
+  double misfit_px = 0;          // how far its own line sits from the pose's (RMS over it)
   int points = 0;                // edge points used
 };
 
 // Whether the pose came from a full detection or from following the previous frame's edges.
 enum class CornerSource { kDetected, kTracked };
 const char* ToString(CornerSource source);
+std::ostream& operator<<(std::ostream& os, CornerSource source);
 
 struct CornerLocation {
   CornerPose pose;
@@ -61,8 +63,11 @@ std::ostream& operator<<(std::ostream& os, const CornerLocation& c);
 struct CornerQualityOptions {
   double min_coverage = 0.3;           // an edge found on less of its visible length
   double min_contrast_to_noise = 2.0;  // an edge fainter than this against the noise
-  double max_edge_rms_px = 0.8;        // an edge's points further than this from the pose's line
-  double max_relative_sigma = 0.02;    // horizontal 1 sigma over the horizontal distance
+  // An edge whose own line sits further from the pose's line than this many of its 1 sigma
+  // (and at least min_edge_misfit_px): the edges do not agree on one pose.
+  double max_edge_misfit_sigmas = 4.0;
+  double min_edge_misfit_px = 0.5;
+  double max_relative_sigma = 0.02;  // horizontal 1 sigma over the horizontal distance
 };
 
 Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics& intrinsics,

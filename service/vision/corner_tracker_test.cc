@@ -1,0 +1,127 @@
+#include "service/vision/corner_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "camera/render/corner_renderer.h"
+#include "service/geometry/corner_test_scenes.h"
+#include "service/geometry/test_scenes.h"
+
+namespace monocle {
+namespace {
+
+using testing::Deg;
+
+// A robot driving under the corner: 1 cm and 0.25 degrees of pan per frame (7.5 degrees/s at
+// 30 frames/s; the image moves ~8 px between frames).
+std::vector<CornerPose> Trajectory(const CornerPose& start, int frames) {
+  std::vector<CornerPose> out;
+  for (int i = 0; i < frames; ++i) {
+    CornerPose p = start;
+    p.x_m += 0.01 * i;
+    p.y_m -= 0.006 * i;
+    p.pan_rad += Deg(0.25) * i;
+    out.push_back(p);
+  }
+  return out;
+}
+
+cv::Mat RenderRealistic(const CameraIntrinsics& k, const CornerPose& pose, uint64_t look_seed,
+                        uint64_t noise_seed) {
+  CornerScene scene;
+  scene.room_height_m = pose.z_m + 1.2;
+  scene.realistic = RandomRealisticLook(look_seed, k);
+  scene.seed = noise_seed;
+  return RenderCornerScene(k, pose, scene);
+}
+
+double HorizontalError(const CornerPose& got, const CornerPose& truth) {
+  return std::hypot(got.x_m - truth.x_m, got.y_m - truth.y_m) / std::hypot(truth.x_m, truth.y_m);
+}
+
+TEST(CornerTrackerTest, TracksARealisticStreamAsWellAsItDetects) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  std::mt19937_64 rng(31);
+  const auto start = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/false);
+  ASSERT_TRUE(start);
+  const auto truth = Trajectory(*start, 12);
+  CornerTrackerOptions options;
+  options.detect_every_n_frames = 6;
+  CornerTracker tracker(k, start->z_m, options);
+  std::vector<double> tracked_errors, detected_errors;
+  std::vector<CornerSource> sources;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const cv::Mat frame = RenderRealistic(k, truth[i], 5, 100 + i);
+    const auto got = tracker.Process(frame);
+    ASSERT_TRUE(got.ok()) << "frame " << i << ": " << got.error();
+    sources.push_back(got->source);
+    if (!tracker.fallback_reason().empty())
+      std::cout << "frame " << i << " detected: " << tracker.fallback_reason() << "\n";
+    // Every frame also detected from scratch, for comparison.
+    const auto detected = LocateCorner(frame, k, truth[i].z_m);
+    ASSERT_TRUE(detected.ok()) << detected.error();
+    detected_errors.push_back(HorizontalError(detected->pose, truth[i]));
+    if (got->source == CornerSource::kTracked) {
+      tracked_errors.push_back(HorizontalError(got->pose, truth[i]));
+      EXPECT_NEAR(got->pose.tilt_rad, truth[i].tilt_rad, Deg(0.1)) << *got;
+    }
+  }
+  // Frame 0 detected, then tracked, a full detection every 6 frames.
+  for (size_t i = 0; i < sources.size(); ++i) {
+    EXPECT_EQ(sources[i], i % 6 == 0 ? CornerSource::kDetected : CornerSource::kTracked)
+        << "frame " << i;
+  }
+  ASSERT_GE(tracked_errors.size(), 8u);
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  const double tracked = median(tracked_errors), detected = median(detected_errors);
+  std::cout << "median horizontal error: tracked " << 100 * tracked << " %, detected "
+            << 100 * detected << " %\n";
+  EXPECT_LT(tracked, 0.003);
+  EXPECT_LT(tracked, 1.5 * detected + 0.0005);
+}
+
+TEST(CornerTrackerTest, FallsBackToDetectionWhenTheViewJumps) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  std::mt19937_64 rng(32);
+  const auto a = testing::RandomRealisticCornerPose(rng, k, false);
+  ASSERT_TRUE(a);
+  // Another view from the same ceiling distance (one per tracker), corner well in view.
+  std::optional<CornerPose> b;
+  while (!b) {
+    b = testing::RandomRealisticCornerPose(rng, k, false);
+    if (!b) continue;
+    b->z_m = a->z_m;
+    const auto lengths = testing::VisibleEdgeLengthsPx(*b, k);
+    if (*std::min_element(lengths.begin(), lengths.end()) < 150) b.reset();
+  }
+  CornerTracker tracker(k, a->z_m);
+  const auto first = tracker.Process(RenderRealistic(k, *a, 6, 1));
+  ASSERT_TRUE(first.ok()) << first.error();
+  EXPECT_EQ(first->source, CornerSource::kDetected);
+  // A different view: the prediction finds nothing there, so the frame is detected.
+  const auto second = tracker.Process(RenderRealistic(k, *b, 6, 2));
+  ASSERT_TRUE(second.ok()) << second.error();
+  EXPECT_EQ(second->source, CornerSource::kDetected);
+  EXPECT_LT(HorizontalError(second->pose, *b), 0.01) << *second;
+}
+
+TEST(CornerTrackerTest, AFrameWithoutCornerIsAnErrorAndTheNextIsDetected) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  std::mt19937_64 rng(33);
+  const auto a = testing::RandomRealisticCornerPose(rng, k, false);
+  ASSERT_TRUE(a);
+  CornerTracker tracker(k, a->z_m);
+  ASSERT_TRUE(tracker.Process(RenderRealistic(k, *a, 7, 1)).ok());
+  const cv::Mat blank(k.height_px, k.width_px, CV_8UC1, cv::Scalar(128));
+  EXPECT_FALSE(tracker.Process(blank).ok());
+  const auto again = tracker.Process(RenderRealistic(k, *a, 7, 2));
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->source, CornerSource::kDetected);
+}
+
+}  // namespace
+}  // namespace monocle
