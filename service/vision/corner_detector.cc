@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -107,10 +108,10 @@ struct HoughPeak {
 std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, int h, int min_votes,
                                   int max_peaks) {
   static const auto tables = [] {
-    std::array<std::array<double, kAngleBins>, 2> t;
+    std::array<std::array<float, kAngleBins>, 2> t;
     for (int a = 0; a < kAngleBins; ++a) {
-      t[0][a] = std::cos(a * kPi / kAngleBins);
-      t[1][a] = std::sin(a * kPi / kAngleBins);
+      t[0][a] = static_cast<float>(std::cos(a * kPi / kAngleBins));
+      t[1][a] = static_cast<float>(std::sin(a * kPi / kAngleBins));
     }
     return t;
   }();
@@ -126,11 +127,14 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
     double alpha = std::atan2(e.ny, e.nx);
     if (alpha < 0) alpha += kPi;
     const int a0 = static_cast<int>(std::lround(alpha / kPi * kAngleBins));
+    // rho + d + 0.5 > 0 always, so truncation rounds (std::lround was a third of the time).
+    const float x = e.x, y = e.y, offset = static_cast<float>(d) + 0.5f;
     for (int da = -e.vote_half_window; da <= e.vote_half_window; ++da) {
-      const int a = ((a0 + da) % kAngleBins + kAngleBins) % kAngleBins;
-      const double rho = e.x * (*cos_table)[a] + e.y * (*sin_table)[a];
-      const size_t cell =
-          static_cast<size_t>(a) * rho_bins + static_cast<int>(std::lround(rho)) + d;
+      int a = a0 + da;
+      if (a < 0) a += kAngleBins;
+      if (a >= kAngleBins) a -= kAngleBins;
+      const float rho = x * (*cos_table)[a] + y * (*sin_table)[a];
+      const size_t cell = static_cast<size_t>(a) * rho_bins + static_cast<int>(rho + offset);
       // A peak of H' >= min_votes needs a cell of H >= min_votes / 3: remember those as they
       // arise instead of scanning the whole accumulator afterwards.
       if (++acc[cell] == candidate_votes) candidates.push_back(cell);
@@ -287,11 +291,25 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
   std::vector<YTriple> found;
   const int n = static_cast<int>(segments.size());
   const double min_angle = 80 * kPi / 180;
+  // The checks below put an end of every segment within ~4.1 junction radii of the corner,
+  // so two segments of one Y have ends within 8.5 radii of each other: pairs that do not are
+  // never looked at again (this prunes the n^3 search to a few triples).
+  std::vector<std::vector<bool>> may_meet(n, std::vector<bool>(n, false));
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      if (segments[j].line == segments[i].line) continue;
+      double closest = std::numeric_limits<double>::infinity();
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+          closest = std::min(closest, (segments[i].End(a) - segments[j].End(b)).norm());
+      may_meet[i][j] = may_meet[j][i] =
+          segments[j].line != segments[i].line && closest <= 8.5 * junction_radius;
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (!may_meet[i][j]) continue;
       for (int k = j + 1; k < n; ++k) {
-        if (segments[k].line == segments[i].line || segments[k].line == segments[j].line) continue;
+        if (!may_meet[i][k] || !may_meet[j][k]) continue;
         const std::array<const Segment*, 3> s{&segments[i], &segments[j], &segments[k]};
         // The corner: the point closest to all three lines. (Pairwise intersections slide
         // far along two nearly collinear edges, which a Y often has.)
@@ -392,11 +410,11 @@ float Bilinear(const cv::Mat& img, double x, double y) {
 
 double EstimateNoiseSigma(const cv::Mat& grey) {
   if (grey.empty() || grey.type() != CV_8UC1 || grey.cols < 2) return 0;
-  // Histogram of |I(x+1) - I(x)| on every other row; the median is interpolated within its
+  // Histogram of |I(x+1) - I(x)| on every fourth row; the median is interpolated within its
   // integer bin, since a few grey levels of noise give only a few distinct differences.
   std::array<int64_t, 256> histogram{};
   int64_t count = 0;
-  for (int y = 0; y < grey.rows; y += 2) {
+  for (int y = 1; y < grey.rows; y += 4) {
     const uint8_t* row = grey.ptr<uint8_t>(y);
     for (int x = 0; x + 1 < grey.cols; ++x) ++histogram[std::abs(row[x + 1] - row[x])];
     count += grey.cols - 1;
@@ -420,18 +438,65 @@ double MinStepGrey(const CornerDetectorOptions& options, double noise_sigma_grey
   return std::max(options.min_step_grey, options.min_step_snr * noise_sigma_grey);
 }
 
+namespace {
+
+constexpr int kAlong = 3;  // profiles averaged over +-3 px along the edge
+constexpr int kStep = 3;   // the step is measured between +-3 px of the edge
+
+// The edge in one profile across it: profile[o] is the image at offset o - r along the
+// normal. Its steepest rise within +-search (of the polarity asked, or either with 0),
+// refined by a parabola, if the step across it is at least min_step.
+std::optional<EdgePointSample> PeakOfProfile(const float* profile, int r, int search,
+                                             double half_width_px, int polarity,
+                                             double min_step_grey, const Eigen::Vector2d& p,
+                                             const Eigen::Vector2d& n) {
+  std::array<float, 128> deriv{};
+  if (2 * r + 1 > static_cast<int>(deriv.size())) return std::nullopt;
+  for (int o = r - search - 1; o <= r + search + 1; ++o) {
+    // Derivative smoothed by [1 2 1] / 4 over the central differences.
+    deriv[o] = 0.125f * (profile[o + 2] + 2 * profile[o + 1] - 2 * profile[o - 1] - profile[o - 2]);
+  }
+  // Polarity 0: whichever sign is steeper here.
+  float sign = static_cast<float>(polarity);
+  if (polarity == 0) {
+    float lo = 0, hi = 0;
+    for (int o = r - search; o <= r + search; ++o) {
+      lo = std::min(lo, deriv[o]);
+      hi = std::max(hi, deriv[o]);
+    }
+    sign = hi >= -lo ? 1.0f : -1.0f;
+  }
+  int best = -1;
+  float best_value = 0;
+  for (int o = r - search - 1; o <= r + search + 1; ++o) {
+    deriv[o] *= sign;
+    if (o >= r - search && o <= r + search && deriv[o] > best_value) {
+      best_value = deriv[o];
+      best = o;
+    }
+  }
+  if (best <= r - search || best >= r + search) return std::nullopt;  // a clear maximum inside
+  const double step = profile[best + kStep] - profile[best - kStep];
+  if (sign * step < min_step_grey) return std::nullopt;
+  const double left = deriv[best - 1], mid = deriv[best], right = deriv[best + 1];
+  const double denom = left - 2 * mid + right;
+  const double offset = denom < 0 ? 0.5 * (left - right) / denom : 0.0;
+  if (std::abs(best - r + offset) > half_width_px) return std::nullopt;
+  return EdgePointSample{p + (best - r + offset) * n, step};
+}
+
+}  // namespace
+
 std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
                                                const std::vector<Eigen::Vector2d>& positions,
                                                const std::vector<Eigen::Vector2d>& normals,
                                                double half_width_px, int polarity,
                                                double min_step_grey) {
-  constexpr int kAlong = 3;  // profile averaged over +-3 px along the edge
-  constexpr int kStep = 3;   // the step is measured between +-3 px of the edge
   std::vector<EdgePointSample> out;
   const int search = static_cast<int>(std::ceil(half_width_px));
   const int r = search + kStep + 2;
   const double reach = std::hypot(r, kAlong) + 2;
-  std::vector<float> profile(2 * r + 1), deriv(2 * r + 1);
+  std::vector<float> profile(2 * r + 1);
   for (size_t i = 0; i < positions.size(); ++i) {
     const Eigen::Vector2d& p = positions[i];
     const Eigen::Vector2d& n = normals[i];
@@ -448,38 +513,70 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
       }
       profile[o + r] = sum / (2 * kAlong + 1);
     }
-    int best = -1;
-    float best_value = 0;
-    for (int o = r - search - 1; o <= r + search + 1; ++o) {
-      // Derivative smoothed by [1 2 1] / 4 over the central differences.
-      deriv[o] =
-          0.125f * (profile[o + 2] + 2 * profile[o + 1] - 2 * profile[o - 1] - profile[o - 2]);
+    if (auto found = PeakOfProfile(profile.data(), r, search, half_width_px, polarity,
+                                   min_step_grey, p, n)) {
+      out.push_back(*found);
     }
-    // Polarity 0: whichever sign is steeper here.
-    float sign = static_cast<float>(polarity);
-    if (polarity == 0) {
-      float lo = 0, hi = 0;
-      for (int o = r - search; o <= r + search; ++o) {
-        lo = std::min(lo, deriv[o]);
-        hi = std::max(hi, deriv[o]);
-      }
-      sign = hi >= -lo ? 1.0f : -1.0f;
+  }
+  return out;
+}
+
+std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
+                                                const Eigen::Vector2d& direction, int count,
+                                                int spacing_px, double half_width_px, int polarity,
+                                                double min_step_grey) {
+  std::vector<EdgePointSample> out;
+  if (count <= 0 || spacing_px <= 0) return out;
+  const int search = static_cast<int>(std::ceil(half_width_px));
+  const int r = search + kStep + 2;
+  const double reach = std::hypot(r, kAlong) + 2;
+  const Eigen::Vector2d d = direction.normalized();
+  const Eigen::Vector2d n(-d.y(), d.x());
+  // Patch coordinates: column c along the edge, row o across it; image point =
+  // origin + c d + o n. The image region it covers, as float (no rounding of the samples).
+  const int width = (count - 1) * spacing_px + 2 * kAlong + 1, height = 2 * r + 1;
+  const Eigen::Vector2d origin = start - kAlong * d - r * n;
+  Eigen::Vector2d lo = origin, hi = origin;
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(origin + (width - 1) * d), Eigen::Vector2d(origin + (height - 1) * n),
+        Eigen::Vector2d(origin + (width - 1) * d + (height - 1) * n)}) {
+    lo = lo.cwiseMin(corner);
+    hi = hi.cwiseMax(corner);
+  }
+  const cv::Rect roi =
+      cv::Rect(static_cast<int>(std::floor(lo.x())) - 1, static_cast<int>(std::floor(lo.y())) - 1,
+               static_cast<int>(std::ceil(hi.x() - lo.x())) + 4,
+               static_cast<int>(std::ceil(hi.y() - lo.y())) + 4) &
+      cv::Rect(0, 0, grey.cols, grey.rows);
+  if (roi.width < 2 || roi.height < 2) return out;
+  cv::Mat region;
+  grey(roi).convertTo(region, CV_32F);
+  const cv::Matx23d patch_to_region(d.x(), n.x(), origin.x() - roi.x, d.y(), n.y(),
+                                    origin.y() - roi.y);
+  cv::Mat patch;
+  cv::warpAffine(region, patch, patch_to_region, cv::Size(width, height),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  // Running sums along each row give every position's average over 2 kAlong + 1 columns.
+  cv::Mat sums;
+  cv::integral(patch, sums, CV_64F);
+  std::vector<float> profile(height);
+  const double scale = 1.0 / (2 * kAlong + 1);
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector2d p = start + static_cast<double>(i * spacing_px) * d;
+    if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
+        p.y() > grey.rows - 1 - reach) {
+      continue;
     }
-    for (int o = r - search - 1; o <= r + search + 1; ++o) {
-      deriv[o] *= sign;
-      if (o >= r - search && o <= r + search && deriv[o] > best_value) {
-        best_value = deriv[o];
-        best = o;
-      }
+    const int c0 = i * spacing_px, c1 = c0 + 2 * kAlong + 1;
+    for (int o = 0; o < height; ++o) {
+      const double* row0 = sums.ptr<double>(o);
+      const double* row1 = sums.ptr<double>(o + 1);
+      profile[o] = static_cast<float>(scale * ((row1[c1] - row1[c0]) - (row0[c1] - row0[c0])));
     }
-    if (best <= r - search || best >= r + search) continue;  // a clear maximum inside
-    const double step = profile[best + kStep] - profile[best - kStep];
-    if (sign * step < min_step_grey) continue;
-    const double left = deriv[best - 1], mid = deriv[best], right = deriv[best + 1];
-    const double denom = left - 2 * mid + right;
-    const double offset = denom < 0 ? 0.5 * (left - right) / denom : 0.0;
-    if (std::abs(best - r + offset) > half_width_px) continue;
-    out.push_back({p + (best - r + offset) * n, step});
+    if (auto found = PeakOfProfile(profile.data(), r, search, half_width_px, polarity,
+                                   min_step_grey, p, n)) {
+      out.push_back(*found);
+    }
   }
   return out;
 }
@@ -603,7 +700,8 @@ Eigen::Vector2d ToImage(const Eigen::Vector2d& p, double scale, const CameraIntr
 // distortion bends the edge away from any straight ray.
 std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2d& corner,
                                        Eigen::Vector2d direction, double min_step) {
-  constexpr double kSpacing = 2, kChunk = 32, kMemory = 300;
+  constexpr int kSpacing = 2;
+  constexpr double kChunk = 32, kMemory = 300;
   std::vector<EdgePointSample> found;
   Eigen::Vector2d origin = corner;  // the current line passes here along `direction`
   double t = 8;                     // distance along the line from `origin`
@@ -611,8 +709,7 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
   // A long gap (contrast fading where shading evens the two surfaces out) is crossed on the
   // last line; the trace ends at the border or after 8 empty chunks.
   while (misses < 8) {
-    std::vector<Eigen::Vector2d> positions, normals;
-    const Eigen::Vector2d normal(-direction.y(), direction.x());
+    std::vector<Eigen::Vector2d> positions;
     bool inside = true;
     for (double s = 0; s < kChunk; s += kSpacing, t += kSpacing) {
       const Eigen::Vector2d p = origin + t * direction;
@@ -621,9 +718,12 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
         break;
       }
       positions.push_back(p);
-      normals.push_back(normal);
     }
-    const auto chunk = MajoritySign(MeasureEdgePoints(grey, positions, normals, 4, 0, min_step));
+    const auto chunk = positions.empty()
+                           ? std::vector<EdgePointSample>{}
+                           : MajoritySign(MeasureEdgeStretch(grey, positions.front(), direction,
+                                                             static_cast<int>(positions.size()),
+                                                             kSpacing, 4, 0, min_step));
     misses = chunk.empty() ? misses + 1 : 0;
     found.insert(found.end(), chunk.begin(), chunk.end());
     if (!inside) break;
@@ -770,14 +870,19 @@ std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
 
 Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorOptions& options,
                                       const CameraIntrinsics* k) {
-  auto candidates = DetectCornerCandidates(grey, options, k);
-  if (!candidates) return candidates.error();
-  return std::move(candidates->front());
+  std::optional<CornerEdges> found;
+  const auto error = ForEachCornerCandidate(grey, options, k, [&](CornerEdges edges) {
+    found = std::move(edges);
+    return true;
+  });
+  if (error) return *error;
+  return std::move(*found);
 }
 
-Result<std::vector<CornerEdges>> DetectCornerCandidates(const cv::Mat& grey,
-                                                        const CornerDetectorOptions& options,
-                                                        const CameraIntrinsics* k) {
+std::optional<Error> ForEachCornerCandidate(const cv::Mat& grey,
+                                            const CornerDetectorOptions& options,
+                                            const CameraIntrinsics* k,
+                                            const std::function<bool(CornerEdges)>& accept) {
   if (grey.empty() || grey.type() != CV_8UC1) {
     return MakeError(ErrorCode::kInvalidArgument, "corner detection needs an 8-bit grey image");
   }
@@ -804,19 +909,18 @@ Result<std::vector<CornerEdges>> DetectCornerCandidates(const cv::Mat& grey,
                                           options.junction_radius_px * scale));
   }
   // The best supported Y first; a Y whose edges cannot be measured at full resolution
-  // (clutter or shading that looked like an edge at half resolution) is left out.
-  std::vector<CornerEdges> measured;
-  std::string why;
+  // (clutter or shading that looked like an edge at half resolution) is passed over.
+  std::optional<Error> why;
   for (const auto& y : candidates) {
     auto edges = MeasureY(grey, y, out, to_full, min_step);
-    if (edges) {
-      measured.push_back(std::move(*edges));
-    } else if (why.empty()) {
-      why = edges.error().message;
+    if (!edges) {
+      if (!why) why = edges.error();
+      continue;
     }
+    if (accept(std::move(*edges))) return std::nullopt;
+    if (!why) why = MakeError(ErrorCode::kNotFound, "no Y found is a ceiling corner");
   }
-  if (measured.empty()) return MakeError(ErrorCode::kNotFound, why);
-  return measured;
+  return why;
 }
 
 }  // namespace monocle

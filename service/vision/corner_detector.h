@@ -9,7 +9,9 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
+#include <functional>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "service/common/result.h"
@@ -65,11 +67,13 @@ Result<CornerEdges> DetectCornerEdges(const cv::Mat& grey, const CornerDetectorO
                                       const CameraIntrinsics* intrinsics = nullptr);
 
 // Every Y worth trying (up to 10), best supported first, each measured as DetectCornerEdges
-// does: a Y the image supports may still be rejected by the pose (not a corner seen from
-// inside a room), and then the next one is the corner.
-Result<std::vector<CornerEdges>> DetectCornerCandidates(
-    const cv::Mat& grey, const CornerDetectorOptions& options,
-    const CameraIntrinsics* intrinsics = nullptr);
+// does and handed to `accept` until it returns true: a Y the image supports may still be
+// rejected by the pose (not a corner seen from inside a room), and then the next one is the
+// corner. Returns why none was accepted (the first reason), or nothing when one was.
+std::optional<Error> ForEachCornerCandidate(const cv::Mat& grey,
+                                            const CornerDetectorOptions& options,
+                                            const CameraIntrinsics* intrinsics,
+                                            const std::function<bool(CornerEdges)>& accept);
 
 // The straight edges the Hough stage finds (full-resolution pixels), for overlays and
 // diagnosis when no corner is found.
@@ -92,6 +96,14 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
                                                const std::vector<Eigen::Vector2d>& normals,
                                                double half_width_px, int polarity,
                                                double min_step_grey);
+
+// The same along a straight stretch: `count` positions from `start`, `spacing_px` apart
+// along `direction` (unit), normals its left normal (-d.y, d.x). Sampled from one rotated
+// patch: several times faster than MeasureEdgePoints, same result up to interpolation.
+std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
+                                                const Eigen::Vector2d& direction, int count,
+                                                int spacing_px, double half_width_px, int polarity,
+                                                double min_step_grey);
 
 // One short stretch of an edge (a chunk of neighbouring samples): keeps the points whose
 // step has the sign most of them have, none if fewer than 3 agree. Along one edge the
