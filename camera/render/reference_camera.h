@@ -38,7 +38,9 @@ cv::Mat UndistortedPixelGrid(const CameraIntrinsics& k);
 Eigen::Matrix3d RotationCameraFromCorner(const CornerPose& pose);
 
 // p_camera = R * p_robot + t for the floor camera at (0, 0, height) in the robot frame
-// (X_w right, Y_w ahead, Z_w up), pitch about the robot's X axis, roll about the optical axis.
+// (X_w right, Y_w ahead, Z_w up), pitch about the robot's X axis (90 degrees looks level,
+// more looks down), roll about the optical axis (positive turns the image content from +x
+// towards +y, clockwise on the screen).
 Eigen::Matrix3d RotationCameraFromRobot(const FloorPose& pose);
 
 // Pixels of world points by cv::projectPoints (lens distortion included).

@@ -1,6 +1,13 @@
 // Accuracy of the corner pose on rendered 1280x1024 images (f ~ 1600 px, the paper camera's
-// distortion, noise sigma = 2 grey levels) over the issue's range of views, against the
-// renderer's ground truth.
+// distortion) against the renderer's ground truth, in three looks:
+// - clean: surfaces 50-100 grey levels apart, noise sigma 2;
+// - cluttered: lamp, door frame, fixture, cable, picture, uneven light, noise sigma 2;
+// - realistic (issue 11): white-painted rooms, surfaces 8-40 grey levels apart, shading,
+//   hot-spot, vignetting, defocus, noise sigma 2-4, JPEG 70-90, the corner anywhere with
+//   short edges. The detector's constants were set on seeds 7 and 8 only; the seeds here
+//   were never looked at while tuning.
+// Each test checks the product goals and, tighter, regression gates about 2-3x above the
+// values measured when the gates were set (README, "Accuracy").
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,78 +23,157 @@
 namespace monocle {
 namespace {
 
+enum class Look { kClean, kCluttered, kRealistic };
+
 struct Stats {
-  int images = 0, located = 0;
+  int images = 0, located = 0, suspect = 0, unflagged_large = 0;
+  int covered = 0, coverage_trials = 0;  // |error| < reported 1 sigma, for x and for y
   std::vector<double> horizontal_rel, tilt_deg, pan_deg, swing_deg;
+  std::vector<double> horizontal_rel_trusted;  // poses not flagged suspect
 
   static double Percentile(std::vector<double> v, double q) {
     if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
     std::sort(v.begin(), v.end());
     return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
   }
+  double Coverage() const { return static_cast<double>(covered) / std::max(coverage_trials, 1); }
   void Print(const char* name) const {
     std::cout << std::setprecision(3) << name << ": pose for " << located << "/" << images
-              << " images; horizontal error median " << 100 * Percentile(horizontal_rel, 0.5)
-              << " %, p95 " << 100 * Percentile(horizontal_rel, 0.95)
-              << " % of the distance; tilt median " << Percentile(tilt_deg, 0.5) << " deg, p95 "
-              << Percentile(tilt_deg, 0.95) << " deg; pan median " << Percentile(pan_deg, 0.5)
-              << " deg; swing median " << Percentile(swing_deg, 0.5) << " deg\n";
+              << " images (" << suspect << " flagged suspect); horizontal error median "
+              << 100 * Percentile(horizontal_rel, 0.5) << " %, p95 "
+              << 100 * Percentile(horizontal_rel, 0.95) << " % of the distance; tilt median "
+              << Percentile(tilt_deg, 0.5) << " deg, p95 " << Percentile(tilt_deg, 0.95)
+              << " deg; pan median " << Percentile(pan_deg, 0.5) << " p95 "
+              << Percentile(pan_deg, 0.95) << " deg; swing median " << Percentile(swing_deg, 0.5)
+              << " p95 " << Percentile(swing_deg, 0.95) << " deg; 1 sigma of x, y covers "
+              << 100 * Coverage() << " % of the errors; unflagged > 5 %: " << unflagged_large
+              << "\n";
   }
 };
 
-Stats RenderAndLocate(int count, uint64_t seed, bool clutter, bool lighting) {
+double AngleErrorDeg(double a, double b) {
+  return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * 180 / std::numbers::pi;
+}
+
+// `ceiling_scale`: the ceiling distance given to the locator, relative to the truth.
+Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale = 1.0) {
   const CameraIntrinsics k = testing::PaperCamera();
   std::mt19937_64 rng(seed);
   Stats stats;
   for (int i = 0; i < count; ++i) {
-    const auto truth = testing::RandomCornerPose(rng, k, /*margin_px=*/60);
+    const auto truth = look == Look::kRealistic
+                           ? testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/i % 3 == 0)
+                           : testing::RandomCornerPose(rng, k, /*margin_px=*/60);
     if (!truth) continue;
     CornerScene scene;
     scene.noise_sigma = 2;
     scene.seed = seed * 1000 + i;
-    scene.clutter = clutter;
-    scene.uneven_lighting = lighting;
+    scene.clutter = scene.uneven_lighting = look == Look::kCluttered;
+    if (look == Look::kRealistic) scene.realistic = RandomRealisticLook(scene.seed, k);
     scene.room_height_m = truth->z_m + 1.2;
     const cv::Mat image = RenderCornerScene(k, *truth, scene);
     ++stats.images;
-    const auto got = LocateCorner(image, k, truth->z_m);
+    const auto got = LocateCorner(image, k, ceiling_scale * truth->z_m);
     if (!got) {
       std::cout << "no pose: " << got.error() << " for " << *truth << "\n";
       continue;
     }
     ++stats.located;
+    stats.suspect += got->suspect;
     const Eigen::Vector2d t(truth->x_m, truth->y_m), g(got->pose.x_m, got->pose.y_m);
     const double rel = (g - t).norm() / t.norm();
     stats.horizontal_rel.push_back(rel);
-    auto deg = [](double a, double b) {
-      return std::abs(std::remainder(a - b, 2 * std::numbers::pi)) * 180 / std::numbers::pi;
-    };
-    stats.tilt_deg.push_back(deg(got->pose.tilt_rad, truth->tilt_rad));
-    stats.pan_deg.push_back(deg(got->pose.pan_rad, truth->pan_rad));
-    stats.swing_deg.push_back(deg(got->pose.swing_rad, truth->swing_rad));
-    if (rel > 0.05)
-      std::cout << "large error " << 100 * rel << " %: truth " << *truth << " got " << got->pose
-                << "\n";
+    if (!got->suspect) stats.horizontal_rel_trusted.push_back(rel);
+    stats.tilt_deg.push_back(AngleErrorDeg(got->pose.tilt_rad, truth->tilt_rad));
+    stats.pan_deg.push_back(AngleErrorDeg(got->pose.pan_rad, truth->pan_rad));
+    stats.swing_deg.push_back(AngleErrorDeg(got->pose.swing_rad, truth->swing_rad));
+    const auto sigma = got->Sigma();
+    stats.covered += (std::abs(g.x() - t.x()) < sigma[0]) + (std::abs(g.y() - t.y()) < sigma[1]);
+    stats.coverage_trials += 2;
+    if (rel > 0.05) {
+      stats.unflagged_large += !got->suspect;
+      std::cout << "large error " << 100 * rel << " %: truth " << *truth << " got " << *got << "\n";
+    }
   }
   return stats;
 }
 
-TEST(CornerAccuracyTest, CleanRoomsMeetTheGoals) {
-  const Stats s = RenderAndLocate(150, 1986, false, false);
-  s.Print("no clutter");
+TEST(CornerAccuracyTest, CleanRoomsMeetTheGoalsAndTheRegressionGates) {
+  const Stats s = RenderAndLocate(150, 1986, Look::kClean);
+  s.Print("clean");
   ASSERT_GT(s.images, 140);
+  // Product goals (issue 3).
   EXPECT_GE(s.located, 0.99 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.01);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
+  // Regression gates: measured 0.011 %, 0.072 %, tilt 0.0016 / 0.013 deg, pan 0.0026 deg,
+  // swing 0.0012 deg.
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.0003);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.002);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.004);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 0.035);
+  EXPECT_LE(Stats::Percentile(s.pan_deg, 0.5), 0.008);
+  EXPECT_LE(Stats::Percentile(s.swing_deg, 0.5), 0.004);
+  EXPECT_EQ(s.unflagged_large, 0);
 }
 
-TEST(CornerAccuracyTest, ClutterAndUnevenLightingAreReported) {
-  // Not gated by the issue's goals; guarded against collapse.
-  const Stats s = RenderAndLocate(60, 2024, true, true);
-  s.Print("clutter + uneven lighting");
-  EXPECT_GE(s.located, 0.9 * s.images);
-  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.01);
+TEST(CornerAccuracyTest, ClutterAndUnevenLighting) {
+  const Stats s = RenderAndLocate(60, 2024, Look::kCluttered);
+  s.Print("cluttered");
+  // Measured 58/60, median 0.018 %, p95 0.50 %, tilt median 0.0029 deg.
+  EXPECT_GE(s.located, 0.95 * s.images);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.0005);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.012);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.008);
+  // Known miss (README): a door frame's corner makes a Y the pose accepts, 23 % off and not
+  // flagged. One at most.
+  EXPECT_LE(s.unflagged_large, 1);
+}
+
+void ExpectRealisticGoals(const Stats& s) {
+  ASSERT_GE(s.images, 60);
+  // Issue 11's goals.
+  EXPECT_GE(s.located, 0.95 * s.images);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
+  // NOT MET YET: the issue asks p95 <= 1 %. Measured 1.1-2.6 % over all poses and 1.1-1.5 %
+  // over the poses not flagged suspect (views with one short edge are weakly determined; the
+  // worst say so with a 1 sigma of 2-6 %). Gated at 2x the worst measured so it cannot slip.
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.03);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
+  EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
+  // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors.
+  EXPECT_GE(s.Coverage(), 0.58);
+  EXPECT_LE(s.Coverage(), 0.78);
+}
+
+TEST(CornerAccuracyTest, RealisticRooms) {
+  const Stats s = RenderAndLocate(72, 2611, Look::kRealistic);
+  s.Print("realistic");
+  ExpectRealisticGoals(s);
+  // Regression gates, ~2.5x above this seed's first run (median 0.14 %, p95 2.6 %, tilt
+  // 0.024 / 0.45 deg, pan 0.037 deg, swing 0.019 deg); the median's gate is the goal above.
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.065);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
+  EXPECT_LE(Stats::Percentile(s.pan_deg, 0.5), 0.09);
+  EXPECT_LE(Stats::Percentile(s.swing_deg, 0.5), 0.05);
+}
+
+TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
+  const Stats s = RenderAndLocate(66, 90210, Look::kRealistic);
+  s.Print("realistic, second seed");
+  ExpectRealisticGoals(s);
+}
+
+// The ceiling distance is an input. Every length in the solution scales with it, so a 1 %
+// error in it moves the position by 1 % of the distance and leaves the angles alone.
+TEST(CornerAccuracyTest, OnePercentCeilingDistanceErrorMovesThePositionByOnePercent) {
+  const Stats s = RenderAndLocate(24, 2611, Look::kRealistic, 1.01);
+  s.Print("realistic, ceiling distance +1 %");
+  ASSERT_GE(s.located, 20);
+  EXPECT_NEAR(Stats::Percentile(s.horizontal_rel, 0.5), 0.01, 0.002);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
 }
 
 }  // namespace
