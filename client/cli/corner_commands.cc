@@ -10,6 +10,7 @@
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 #include "client/cli/args.h"
@@ -18,6 +19,7 @@
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/vision/corner_locator.h"
+#include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
 namespace {
@@ -26,7 +28,7 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 
 constexpr const char* kLocateHelp =
     R"(Usage: monocle corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z]
-                             [--json] [--overlay DIR]
+                             [--json] [--overlay DIR] [--track [--detect-every N]]
 
 Finds the ceiling corner (two ceiling edges and the vertical wall edge meeting in a Y) in
 each image and computes the camera's pose in the corner frame (Chou & Tsai 1986): origin
@@ -38,8 +40,20 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            corner { ceiling_distance }
   --ceiling-distance Z     camera optical centre to ceiling, metres (overrides the file)
   --json                   one JSON object per line: image x y z pan tilt swing
-                           quaternion corner_px rms_px sigma lines, or image error
+                           quaternion corner_px rms_px sigma lines (with each edge's
+                           support) source suspect [suspect_reason] noise_grey, or image
+                           error
   --overlay DIR            write DIR/<image>.overlay.png with the edges, corner and pose
+  --track                  the images are an ordered sequence (frames of a video): predict
+                           the three edges from the previous pose and measure them there
+                           first; a full detection when that fails, when the tracked pose is
+                           suspect, and every --detect-every N images (default 30). Each
+                           result says "tracked" or "detected".
+
+Every pose says how well the image supports it: per edge the length found, its contrast
+against the image's noise, and how far its points lie from the pose's line. A pose whose
+edges disagree, or that is weakly determined (1 sigma above 2 % of the distance), is
+printed as SUSPECT with the reason; it is never dropped silently.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --camera ID              the camera's poses as monocled publishes them (same JSON as
@@ -88,6 +102,28 @@ void WriteOverlay(const std::string& dir, const std::string& image_path, const c
               4);
   cv::putText(color, text, cv::Point(12, 32), cv::FONT_HERSHEY_SIMPLEX, 0.8,
               cv::Scalar(0, 255, 255), 2);
+  if (result) {
+    // Second line: where the pose came from and how well each edge supports it.
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1) << ToString(result->source) << "  noise "
+       << result->noise_sigma_grey << " grey";
+    for (int a = 0; a < 3; ++a) {
+      const auto& s = result->support[a];
+      os << "  " << kAxisName[a] << ": " << std::setprecision(0) << s.length_px << " px, "
+         << std::setprecision(1) << s.contrast_to_noise << "x noise";
+    }
+    cv::putText(color, os.str(), cv::Point(12, 64), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+                cv::Scalar(0, 0, 0), 4);
+    cv::putText(color, os.str(), cv::Point(12, 64), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+                cv::Scalar(0, 255, 255), 1);
+    if (result->suspect) {
+      const std::string warning = "SUSPECT: " + result->suspect_reason;
+      cv::putText(color, warning, cv::Point(12, 92), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+                  cv::Scalar(0, 0, 0), 4);
+      cv::putText(color, warning, cv::Point(12, 92), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+                  cv::Scalar(0, 0, 255), 2);
+    }
+  }
   const std::string out = (std::filesystem::path(dir) /
                            (std::filesystem::path(image_path).stem().string() + ".overlay.png"))
                               .string();
@@ -129,7 +165,20 @@ proto::CornerOutput ToOutput(const std::string& image, const Result<CornerLocati
     line->add_to_px(r->line_end_px[a].x());
     line->add_to_px(r->line_end_px[a].y());
     line->set_points(r->points_per_line[a]);
+    const EdgeSupport& s = r->support[a];
+    line->set_length_px(s.length_px);
+    line->set_visible_length_px(s.visible_length_px);
+    line->set_coverage(s.coverage);
+    line->set_contrast_grey(s.contrast_grey);
+    line->set_contrast_to_noise(s.contrast_to_noise);
+    line->set_edge_rms_px(s.rms_px);
+    line->set_sigma_px(s.sigma_px);
+    line->set_misfit_px(s.misfit_px);
   }
+  out.set_source(ToString(r->source));
+  out.set_suspect(r->suspect);
+  if (r->suspect) out.set_suspect_reason(r->suspect_reason);
+  out.set_noise_grey(r->noise_sigma_grey);
   return out;
 }
 
@@ -192,8 +241,8 @@ int Locate(const std::vector<std::string>& argv) {
     return kExitOk;
   }
   auto args = Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera",
-                                  "--count", "--domain", "--timeout"},
-                                 {"--json", "--follow"}});
+                                  "--count", "--domain", "--timeout", "--detect-every"},
+                                 {"--json", "--follow", "--track"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->Has("--camera")) return LocateLive(*args);
   if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
@@ -223,11 +272,20 @@ int Locate(const std::vector<std::string>& argv) {
       return Fail("cannot create overlay folder '" + *overlay + "': " + ec.message(), kExitFailure);
   }
   const bool json = args->Has("--json");
+  const auto detect_every = args->GetDouble("--detect-every", 30);
+  if (!detect_every || *detect_every < 1 || *detect_every != std::floor(*detect_every))
+    return Fail("--detect-every must be a whole number of images >= 1", kExitUsage);
+  CornerTrackerOptions tracking;
+  tracking.detect_every_n_frames = static_cast<int>(*detect_every);
+  std::optional<CornerTracker> tracker;
+  if (args->Has("--track")) tracker.emplace(calibration->intrinsics, zc, tracking);
   bool any_failed = false;
   for (const auto& path : args->positionals()) {
     const auto image = ReadGreyImage(path);
-    Result<CornerLocation> result = image ? LocateCorner(*image, calibration->intrinsics, zc)
-                                          : Result<CornerLocation>(image.error());
+    Result<CornerLocation> result = !image    ? Result<CornerLocation>(image.error())
+                                    : tracker ? tracker->Process(*image)
+                                              : LocateCorner(*image, calibration->intrinsics, zc);
+    if (!image && tracker) tracker->Reset();  // a gap in the sequence
     any_failed |= !result.ok();
     if (overlay && image) WriteOverlay(*overlay, path, *image, result);
     if (json) {
@@ -245,7 +303,9 @@ int Locate(const std::vector<std::string>& argv) {
               << " swing=" << p.swing_rad << " rad  (1σ " << s[0] << " " << s[1] << " m, " << s[2]
               << " " << s[3] << " " << s[4] << " rad)  corner " << std::setprecision(1)
               << result->corner_px.x() << "," << result->corner_px.y() << " px  rms "
-              << std::setprecision(3) << result->rms_px << " px" << std::endl;
+              << std::setprecision(3) << result->rms_px << " px  " << ToString(result->source);
+    if (result->suspect) std::cout << "  SUSPECT: " << result->suspect_reason;
+    std::cout << std::endl;
   }
   return any_failed ? kExitFailure : kExitOk;
 }

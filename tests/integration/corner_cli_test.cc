@@ -98,5 +98,66 @@ TEST_F(CornerCliTest, CeilingDistanceFromTheCommandLineOrAClearError) {
   EXPECT_NE(r.err.find("X,Y,Z,PAN,TILT,SWING"), std::string::npos) << r.err;
 }
 
+TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
+  // A robot turning slowly under a white-painted corner: four frames, one look.
+  std::vector<std::string> frames;
+  for (int i = 0; i < 4; ++i) {
+    const std::string frame = dir_ / ("frame" + std::to_string(i) + ".png");
+    const std::string pose = std::to_string(2.0 + 0.01 * i) + ",1.5,1.6," +
+                             std::to_string(2.2143 + 0.004 * i) + ",0.9,0.1";
+    auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" + " --pose " +
+                                  pose + " --realistic --seed 3 --out " + frame);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("RealisticLook{"), std::string::npos) << "the look is printed";
+    frames.push_back(frame);
+  }
+  std::string files;
+  for (const auto& f : frames) files += " " + f;
+  auto r = RunMonocle(dir_, "corner locate" + files + " --calibration " + dir_ / "cal.pbtxt" +
+                                " --track --detect-every 3 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto lines = Lines(r.out);
+  ASSERT_EQ(lines.size(), 4u) << r.out;
+  const char* expected[4] = {"detected", "tracked", "tracked", "detected"};
+  for (int i = 0; i < 4; ++i) {
+    proto::CornerOutput out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(lines[i], &out).ok()) << lines[i];
+    EXPECT_EQ(out.source(), expected[i]) << "frame " << i;
+    EXPECT_NEAR(out.x(), 2.0 + 0.01 * i, 0.01) << lines[i];
+    EXPECT_NEAR(out.y(), 1.5, 0.01) << lines[i];
+    EXPECT_FALSE(out.suspect()) << out.suspect_reason();
+    ASSERT_EQ(out.lines_size(), 3);
+    for (const auto& line : out.lines()) {
+      EXPECT_GT(line.contrast_to_noise(), 2) << line.axis();
+      EXPECT_GT(line.coverage(), 0.3) << line.axis();
+      EXPECT_GT(line.length_px(), 80) << line.axis();
+    }
+  }
+  // Without --track every frame is detected.
+  r = RunMonocle(dir_,
+                 "corner locate" + files + " --calibration " + dir_ / "cal.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const auto& line : Lines(r.out)) {
+    proto::CornerOutput out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok());
+    EXPECT_EQ(out.source(), "detected");
+  }
+  r = RunMonocle(dir_, "corner locate" + files + " --calibration " + dir_ / "cal.pbtxt" +
+                           " --track --detect-every 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--detect-every"), std::string::npos) << r.err;
+}
+
+TEST_F(CornerCliTest, AViewWithoutACornerSaysWhatWasSeen) {
+  // Looking along one ceiling edge from close to a wall: two edges meet, the third is out
+  // of view. The message names what was found.
+  auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                                " --pose 3,1,1.6,1.9,0.7,-0.2 --noise 2 --out " + dir_ / "b.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_, "corner locate " + dir_ / "b.png" + " --calibration " + dir_ / "cal.pbtxt");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("straight edge"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace monocle
