@@ -51,6 +51,9 @@ Pose ToPose(const monocle_dds_CornerPose& s) {
   p.corner_px = {s.corner_px[0], s.corner_px[1]};
   p.rms_px = s.rms_px;
   p.processing_ns = s.processing_ns;
+  p.tracked = s.tracked;
+  p.suspect = s.suspect;
+  p.suspect_reason = Text(s.suspect_reason);
   return p;
 }
 

@@ -255,10 +255,12 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
   std::unique_ptr<AravisSource> src(new AravisSource());
   src->id_ = options.device;
   GErrorSlot err;
-  if (options.device == "sim-corner" || options.device == "sim-floor") {
+  if (options.device == "sim-corner" || options.device == "sim-corner-realistic" ||
+      options.device == "sim-floor") {
     // Aravis's in-process fake device: the same ArvCamera API and stream, no network.
     SimCameraOptions sim;
-    sim.scene = options.device == "sim-corner" ? SimScene::kCorner : SimScene::kFloor;
+    sim.scene = options.device == "sim-floor" ? SimScene::kFloor : SimScene::kCorner;
+    sim.realistic = options.device == "sim-corner-realistic";
     sim.serial = options.device;
     sim.trajectory_frames = 8;
     auto scenes = SimScenes::Render(sim);

@@ -83,6 +83,7 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
       CornerScene scene;
       scene.noise_sigma = o.noise_sigma;
       scene.seed = 100 + i;
+      if (o.realistic) scene.realistic = RandomRealisticLook(o.look_seed, cam->intrinsics_);
       cam->frames_.push_back(RenderCornerScene(cam->intrinsics_, cam->corner_poses_[i], scene));
     } else {
       FloorScene scene;

@@ -27,6 +27,10 @@ struct SimCameraOptions {
   double fps = 30;
   int trajectory_frames = 16;  // distinct poses; frame id k shows pose k mod this
   double noise_sigma = 2;
+  // Corner scene: a white-painted room as cameras photograph it (RealisticLook, drawn once
+  // from `look_seed`: one room, new sensor noise in every frame) instead of the clean look.
+  bool realistic = false;
+  uint64_t look_seed = 1;
   // Corner scene: poses to drive through instead of the built-in trajectory.
   std::vector<CornerPose> trajectory;
 };

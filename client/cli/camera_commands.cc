@@ -1,4 +1,5 @@
 // monocle cameras | snapshot | simcam: cameras through Aravis.
+#include <cmath>
 #include <csignal>
 #include <fstream>
 #include <iomanip>
@@ -37,13 +38,14 @@ and writes it as 8-bit grey (Mono16, Bayer and RGB frames are converted).
   --packet-size B   GigE Vision packet size, bytes; --packet-delay T inter-packet delay, ticks
   --feature N=V     any other GenICam feature by name (repeatable)
 Every value is checked against the camera's range first; the error names the feature.
-The ids sim-corner and sim-floor are built-in simulated cameras.
+The ids sim-corner, sim-corner-realistic (a white-painted room) and sim-floor are built-in
+simulated cameras.
 )";
 
 constexpr const char* kSimcamHelp =
     R"(Usage: monocle simcam --scene corner|floor [--ip 127.0.0.1] [--serial S] [--width W --height H]
                       [--fps F] [--frames N] [--trajectory FILE] [--truth FILE]
-                      [--calibration-out CAL.pbtxt]
+                      [--calibration-out CAL.pbtxt] [--realistic [--look-seed N]]
 
 Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
 frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
@@ -62,6 +64,10 @@ the floor. Runs until Ctrl-C (SIGINT) or SIGTERM.
                       pitch yaw roll)
   --calibration-out   write the camera's calibration file (intrinsics, and the ceiling
                       distance or the floor pose) for `monocle corner locate` and friends
+  --realistic         corner: a white-painted room as cameras photograph it (surfaces
+                      8-40 grey levels apart, shading, hot-spot, vignetting, blur, noise,
+                      JPEG; see `monocle render corner --help`), one look drawn from
+                      --look-seed N (default 1), new noise in every frame
 )";
 
 int Cameras(const std::vector<std::string>& argv) {
@@ -158,9 +164,10 @@ int Simcam(const std::vector<std::string>& argv) {
     std::cout << kSimcamHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps",
-                                  "--frames", "--truth", "--calibration-out", "--trajectory"},
-                                 {}});
+  auto args =
+      Args::Parse(argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps", "--frames",
+                          "--truth", "--calibration-out", "--trajectory", "--look-seed"},
+                         {"--realistic"}});
   if (!args) return Fail(args.error(), kExitUsage);
   SimCameraOptions o;
   const std::string scene = args->Get("--scene").value_or("");
@@ -178,6 +185,11 @@ int Simcam(const std::vector<std::string>& argv) {
   o.height = static_cast<int>(*h);
   o.fps = *fps;
   o.trajectory_frames = static_cast<int>(*frames);
+  o.realistic = args->Has("--realistic");
+  const auto look_seed = args->GetDouble("--look-seed", 1);
+  if (!look_seed || *look_seed < 0 || *look_seed != std::floor(*look_seed))
+    return Fail("--look-seed must be a whole number >= 0", kExitUsage);
+  o.look_seed = static_cast<uint64_t>(*look_seed);
   if (const auto file = args->Get("--trajectory")) {
     auto poses = ReadTrajectoryFile(*file);
     if (!poses) return Fail(poses.error(), kExitUsage);

@@ -228,7 +228,8 @@ int LocateLive(const Args& args) {
                 << "  x=" << pose.x_m << " y=" << pose.y_m << " z=" << pose.z_m
                 << " m  pan=" << pose.pan_rad << " tilt=" << pose.tilt_rad
                 << " swing=" << pose.swing_rad << " rad  rms " << std::setprecision(3)
-                << pose.rms_px << " px" << std::endl;
+                << pose.rms_px << " px  " << (pose.tracked ? "tracked" : "detected")
+                << (pose.suspect ? "  SUSPECT: " + pose.suspect_reason : "") << std::endl;
     }
     ++printed;
   }

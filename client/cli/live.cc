@@ -51,6 +51,9 @@ proto::LivePoseOutput ToLiveOutput(const Pose& s) {
   p->add_corner_px(s.corner_px[0]);
   p->add_corner_px(s.corner_px[1]);
   p->set_rms_px(s.rms_px);
+  p->set_source(s.tracked ? "tracked" : "detected");
+  p->set_suspect(s.suspect);
+  if (s.suspect) p->set_suspect_reason(s.suspect_reason);
   auto* sigma = p->mutable_sigma();
   sigma->set_x(std::sqrt(s.covariance[0]));
   sigma->set_y(std::sqrt(s.covariance[6]));

@@ -129,7 +129,18 @@ void CameraWorker::Process() {
     out.sequence = frame.sequence;
     out.capture_time_ns = frame.capture_time_ns;
     out.camera_clock = frame.time_source == TimeSource::kCamera;
-    out.corner = LocateCorner(frame.grey, intrinsics, ceiling_m);
+    // One tracker per calibration: a new intrinsics or ceiling distance starts afresh.
+    if (!tracker_ || tracker_intrinsics_.fx != intrinsics.fx ||
+        tracker_intrinsics_.fy != intrinsics.fy || tracker_intrinsics_.cx != intrinsics.cx ||
+        tracker_intrinsics_.cy != intrinsics.cy ||
+        tracker_intrinsics_.distortion != intrinsics.distortion ||
+        tracker_intrinsics_.width_px != intrinsics.width_px || tracker_ceiling_m_ != ceiling_m) {
+      tracker_.emplace(intrinsics, ceiling_m);
+      tracker_intrinsics_ = intrinsics;
+      tracker_ceiling_m_ = ceiling_m;
+    }
+    out.corner = ceiling_m > 0 ? tracker_->Process(frame.grey)
+                               : LocateCorner(frame.grey, intrinsics, ceiling_m);
     out.processing_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::steady_clock::now() - received)
                             .count();

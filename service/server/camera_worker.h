@@ -17,6 +17,7 @@
 #include "service/io/calibration_file.h"
 #include "service/server/service_config.h"
 #include "service/vision/corner_locator.h"
+#include "service/vision/corner_tracker.h"
 
 namespace monocle {
 
@@ -89,6 +90,12 @@ class CameraWorker {
   std::chrono::steady_clock::time_point period_start_ = std::chrono::steady_clock::now();
   std::vector<double> period_latency_ms_;
   std::optional<uint64_t> last_sequence_;
+
+  // Owned by the processing thread alone (not guarded): the corner tracker and what it was
+  // made for.
+  std::optional<CornerTracker> tracker_;
+  CameraIntrinsics tracker_intrinsics_;
+  double tracker_ceiling_m_ = 0;
 
   std::thread acquisition_, processing_;
 };

@@ -13,6 +13,8 @@ void ToSample(const std::string& camera_id, uint64_t sequence, int64_t capture_t
   out->capture_time_ns = capture_time_ns;
   out->time_source = camera_clock ? 1 : 0;
   out->processing_ns = processing_ns;
+  static const char kEmpty[] = "";
+  out->suspect_reason = const_cast<char*>(kEmpty);
   if (!pose) {
     out->status = 1;
     *error = pose.error().message;
@@ -37,6 +39,9 @@ void ToSample(const std::string& camera_id, uint64_t sequence, int64_t capture_t
   out->corner_px[0] = pose->corner_px.x();
   out->corner_px[1] = pose->corner_px.y();
   out->rms_px = pose->rms_px;
+  out->tracked = pose->source == CornerSource::kTracked;
+  out->suspect = pose->suspect;
+  out->suspect_reason = const_cast<char*>(pose->suspect_reason.c_str());
 }
 
 }  // namespace monocle::dds

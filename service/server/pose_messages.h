@@ -8,7 +8,8 @@
 
 namespace monocle::dds {
 
-// Fills `out` (its string fields point into `camera_id` and `error`, which must outlive it).
+// Fills `out` (its string fields point into `camera_id`, `error` and `pose`, which must outlive
+// it).
 void ToSample(const std::string& camera_id, uint64_t sequence, int64_t capture_time_ns,
               bool camera_clock, const Result<CornerLocation>& pose, int64_t processing_ns,
               monocle_dds_CornerPose* out, std::string* error);

@@ -309,6 +309,7 @@ void Service::ReplyPose(const std::string& client_id, uint64_t request_id, uint8
   } else {
     reply.pose.camera_id = Chars(camera_id);
     reply.pose.error = Chars(pose_error);
+    reply.pose.suspect_reason = Chars(pose_error);
   }
   if (auto s = pose_replies_->Publish(reply); !s) std::cerr << "monocled: " << s.error() << "\n";
 }

@@ -95,6 +95,9 @@ struct Pose {
   std::array<double, 2> corner_px{};
   double rms_px = 0;          // edge points to fitted lines
   int64_t processing_ns = 0;  // frame received -> pose computed
+  bool tracked = false;       // followed from the previous frame's edges (false: detected)
+  bool suspect = false;       // the edges support the pose poorly; `suspect_reason` says how
+  std::string suspect_reason;
 };
 
 enum class PoseWhich { kLatest, kNextFrame };

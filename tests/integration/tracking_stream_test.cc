@@ -1,0 +1,84 @@
+// The realistic simulated GigE Vision camera (`monocle simcam --realistic`, a white-painted
+// room) driving slowly past a corner, monocled tracking the corner from frame to frame, and
+// `monocle corner locate --camera` in its own process: tracked poses agree with the ground
+// truth as well as detected ones, and every pose says which it was.
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "idl/cli_output.pb.h"
+#include "tests/integration/service_process.h"
+
+namespace monocle {
+namespace {
+
+using testing::RunMonocle;
+using testing::TempDir;
+
+constexpr int kDomain = 27;
+constexpr int kFrames = 30;
+
+TEST(TrackingStreamTest, TrackedPosesAgreeWithTheTruthAsWellAsDetectedOnes) {
+  TempDir dir("monocle_tracking_stream");
+  // 1 cm and 0.2 degrees of pan per frame, then back to the start (a jump: detected).
+  std::vector<std::array<double, 6>> truth;
+  {
+    std::ofstream trajectory(dir / "trajectory.txt");
+    for (int i = 0; i < kFrames; ++i) {
+      truth.push_back({1.8 + 0.01 * i, 2.2 - 0.004 * i, 1.6, 2.45 + 0.0035 * i, 0.95, 0.05});
+      const auto& p = truth.back();
+      trajectory << p[0] << "," << p[1] << "," << p[2] << "," << p[3] << "," << p[4] << "," << p[5]
+                 << "\n";
+    }
+  }
+  testing::ChildProcess simcam(
+      testing::MonocleBinary(),
+      {"simcam", "--scene", "corner", "--realistic", "--look-seed", "4", "--fps", "15",
+       "--trajectory", dir / "trajectory.txt", "--calibration-out", dir / "sim.pbtxt"},
+      dir / "simcam.log");
+  for (int i = 0; i < 300 && !std::ifstream(dir / "sim.pbtxt"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
+  auto monocled = testing::StartMonocled(dir, "domain: " + std::to_string(kDomain) + R"(
+camera { id: "ceiling" device: "127.0.0.1" role: CORNER calibration: "sim.pbtxt" }
+)");
+  const auto r = RunMonocle(dir,
+                            "corner locate --camera ceiling --count 45 --json --timeout 30 "
+                            "--domain " +
+                                std::to_string(kDomain));
+  ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir / "monocled.log");
+  std::vector<double> tracked, detected;
+  std::stringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);) {
+    proto::LivePoseOutput out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok()) << line;
+    ASSERT_FALSE(out.pose().has_error()) << out.pose().error();
+    const auto& t = truth[out.sequence() % kFrames];
+    const double error =
+        std::hypot(out.pose().x() - t[0], out.pose().y() - t[1]) / std::hypot(t[0], t[1]);
+    EXPECT_LT(error, 0.01) << line;
+    EXPECT_NEAR(out.pose().tilt(), t[4], 0.1 * M_PI / 180) << line;
+    ASSERT_TRUE(out.pose().source() == "tracked" || out.pose().source() == "detected") << line;
+    (out.pose().source() == "tracked" ? tracked : detected).push_back(error);
+  }
+  EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
+  EXPECT_EQ(simcam.Stop(), 0);
+  ASSERT_GE(tracked.size(), 20u) << "most frames follow the previous one";
+  ASSERT_GE(detected.size(), 1u) << "the first frame (and the jump back) are detected";
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  std::cout << tracked.size() << " tracked, median error " << 100 * median(tracked) << " %; "
+            << detected.size() << " detected, median " << 100 * median(detected) << " %\n";
+  EXPECT_LT(median(tracked), 0.003);
+  EXPECT_LT(median(tracked), 1.5 * median(detected) + 0.0005);
+}
+
+}  // namespace
+}  // namespace monocle
