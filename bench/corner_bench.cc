@@ -120,12 +120,9 @@ void BM_Tracking(benchmark::State& state) {
   options.detect_every_n_frames = 1 << 30;
   size_t tracked = 0, total = 0, i = 0;
   CornerTracker tracker(k, trajectory[0].second.z_m, options);
-  state.PauseTiming();
-  (void)tracker.Process(trajectory[0].first);  // the first frame is detected
-  state.ResumeTiming();
   for (auto _ : state) {
     i = i % (trajectory.size() - 1) + 1;
-    if (i == 1) {  // start over: detect frame 0 again, untimed
+    if (i == 1) {  // (re)start: detect frame 0, untimed
       state.PauseTiming();
       tracker.Reset();
       (void)tracker.Process(trajectory[0].first);

@@ -174,7 +174,7 @@ double VisibleLengthPx(const CameraIntrinsics& k, const CornerPose& pose, int ax
                        const Eigen::Vector2d& corner_px) {
   double length = 0;
   const double scale = std::max(CameraPosition(pose).norm(), 0.1);
-  for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.01) {
+  for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.02) {
     const Eigen::Vector3d p = CornerToCamera(pose, t * Eigen::Vector3d::Unit(axis));
     if (p.z() <= 1e-3 * scale) break;
     const Eigen::Vector2d px = NormalizedToPixel(k, p.head<2>() / p.z());

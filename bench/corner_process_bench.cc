@@ -1,0 +1,91 @@
+// Corner detection as a user runs it, whole processes: `monocle corner locate` on 300 PGM
+// files (72 distinct views: clean, cluttered, realistic, from bench/corner_bench_frames.h)
+// against `canny_hough_baseline` (OpenCV Canny + HoughLines) on the same files, each pinned
+// to one core with taskset, alternately, 3 rounds. Start-up, image decoding and output are
+// inside the time. Failed frames are counted from monocle's JSON, not dropped.
+// Goal (issue 11): monocle <= 0.4x the baseline.
+// Run: build/bench/corner_process_bench [--frames 300] [--rounds 3]
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <string>
+
+#include "bench/corner_bench_frames.h"
+#include "service/io/calibration_file.h"
+
+namespace {
+
+double RunSeconds(const std::string& command) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int status = std::system(command.c_str());
+  const auto t1 = std::chrono::steady_clock::now();
+  if (status == -1) {
+    std::cerr << "cannot run: " << command << "\n";
+    std::exit(1);
+  }
+  return std::chrono::duration<double>(t1 - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int frames = 300, rounds = 3;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--frames") frames = std::atoi(argv[i + 1]);
+    else if (flag == "--rounds") rounds = std::atoi(argv[i + 1]);
+    else {
+      std::cerr << "usage: corner_process_bench [--frames N] [--rounds R]\n";
+      return 2;
+    }
+  }
+  const std::filesystem::path bin = std::filesystem::path(argv[0]).parent_path();
+  const std::string monocle = (bin / "../client/monocle").string();
+  const std::string baseline = (bin / "canny_hough_baseline").string();
+  const auto dir = std::filesystem::temp_directory_path() / "monocle_corner_process_bench";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+
+  std::cerr << "rendering 72 distinct frames...\n";
+  const auto views = monocle::bench::RenderBenchFrames();
+  std::string files;
+  for (int i = 0; i < frames; ++i) {
+    std::ostringstream name;
+    name << "frame" << std::setw(3) << std::setfill('0') << i << ".pgm";
+    cv::imwrite((dir / name.str()).string(), views[i % views.size()].image);
+    files += " " + (dir / name.str()).string();
+  }
+  monocle::CameraCalibration cal;
+  cal.intrinsics = monocle::testing::PaperCamera();
+  cal.ceiling_distance_m = 1.6;  // one distance for all: it scales the pose, not the work
+  if (!monocle::SaveCalibrationFileAtomically((dir / "cam.pbtxt").string(), cal).ok()) return 1;
+
+  const std::string ours = "taskset -c 0 " + monocle + " corner locate" + files +
+                           " --calibration " + (dir / "cam.pbtxt").string() + " --json > " +
+                           (dir / "monocle.jsonl").string() + " 2>&1";
+  const std::string theirs =
+      "taskset -c 0 " + baseline + files + " > " + (dir / "baseline.txt").string() + " 2>&1";
+  double ours_s = 0, theirs_s = 0;
+  for (int round = 0; round < rounds; ++round) {
+    const double a = RunSeconds(ours), b = RunSeconds(theirs);
+    std::cout << "round " << round + 1 << ": monocle " << 1e3 * a / frames << " ms/frame, baseline "
+              << 1e3 * b / frames << " ms/frame, ratio " << a / b << "\n";
+    ours_s += a;
+    theirs_s += b;
+  }
+  int failed = 0, lines = 0;
+  std::ifstream results(dir / "monocle.jsonl");
+  for (std::string line; std::getline(results, line); ++lines)
+    failed += line.find("\"error\"") != std::string::npos;
+  std::cout << "monocle corner locate: " << 1e3 * ours_s / (rounds * frames)
+            << " ms/frame over " << frames << " frames (" << failed << " failed of " << lines
+            << "), baseline " << 1e3 * theirs_s / (rounds * frames) << " ms/frame, ratio "
+            << ours_s / theirs_s << " (goal <= 0.4)\n";
+  std::filesystem::remove_all(dir);
+  return 0;
+}
