@@ -1,0 +1,201 @@
+#include "service/vision/edge_profile.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+namespace monocle {
+namespace {
+
+float Bilinear(const cv::Mat& img, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const uint8_t* r0 = img.ptr<uint8_t>(y0);
+  const uint8_t* r1 = img.ptr<uint8_t>(y0 + 1);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+         fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+}  // namespace
+
+double EstimateNoiseSigma(const cv::Mat& grey) {
+  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols < 2) return 0;
+  // Histogram of |I(x+1) - I(x)| on every fourth row; the median is interpolated within its
+  // integer bin, since a few grey levels of noise give only a few distinct differences.
+  std::array<int64_t, 256> histogram{};
+  int64_t count = 0;
+  for (int y = 1; y < grey.rows; y += 4) {
+    const uint8_t* row = grey.ptr<uint8_t>(y);
+    for (int x = 0; x + 1 < grey.cols; ++x) ++histogram[std::abs(row[x + 1] - row[x])];
+    count += grey.cols - 1;
+  }
+  const double half = 0.5 * static_cast<double>(count);
+  double below = 0, median = 0;
+  for (int d = 0; d < 256; ++d) {
+    if (below + histogram[d] >= half) {
+      // Bin d spans |difference| in [d - 0.5, d + 0.5) (bin 0: [0, 0.5)).
+      const double lo = d == 0 ? 0.0 : d - 0.5, width = d == 0 ? 0.5 : 1.0;
+      median = lo + width * (half - below) / std::max<double>(histogram[d], 1);
+      break;
+    }
+    below += histogram[d];
+  }
+  // Median of |N(0, 2 sigma^2)| is 0.6745 * sqrt(2) sigma.
+  return median / (0.6745 * std::sqrt(2.0));
+}
+
+namespace {
+
+constexpr int kAlong = 3;  // profiles averaged over +-3 px along the edge
+constexpr int kStep = 3;   // the step is measured between +-3 px of the edge
+
+// The edge in one profile across it: profile[o] is the image at offset o - r along the
+// normal. Its steepest rise within +-search (of the polarity asked, or either with 0),
+// refined by a parabola, if the step across it is at least min_step.
+std::optional<EdgePointSample> PeakOfProfile(const float* profile, int r, int search,
+                                             double half_width_px, int polarity,
+                                             double min_step_grey, const Eigen::Vector2d& p,
+                                             const Eigen::Vector2d& n) {
+  std::array<float, 128> deriv{};
+  if (2 * r + 1 > static_cast<int>(deriv.size())) return std::nullopt;
+  for (int o = r - search - 1; o <= r + search + 1; ++o) {
+    // Derivative smoothed by [1 2 1] / 4 over the central differences.
+    deriv[o] = 0.125f * (profile[o + 2] + 2 * profile[o + 1] - 2 * profile[o - 1] - profile[o - 2]);
+  }
+  // Polarity 0: whichever sign is steeper here.
+  float sign = static_cast<float>(polarity);
+  if (polarity == 0) {
+    float lo = 0, hi = 0;
+    for (int o = r - search; o <= r + search; ++o) {
+      lo = std::min(lo, deriv[o]);
+      hi = std::max(hi, deriv[o]);
+    }
+    sign = hi >= -lo ? 1.0f : -1.0f;
+  }
+  int best = -1;
+  float best_value = 0;
+  for (int o = r - search - 1; o <= r + search + 1; ++o) {
+    deriv[o] *= sign;
+    if (o >= r - search && o <= r + search && deriv[o] > best_value) {
+      best_value = deriv[o];
+      best = o;
+    }
+  }
+  if (best <= r - search || best >= r + search) return std::nullopt;  // a clear maximum inside
+  const double step = profile[best + kStep] - profile[best - kStep];
+  if (sign * step < min_step_grey) return std::nullopt;
+  const double left = deriv[best - 1], mid = deriv[best], right = deriv[best + 1];
+  const double denom = left - 2 * mid + right;
+  const double offset = denom < 0 ? 0.5 * (left - right) / denom : 0.0;
+  if (std::abs(best - r + offset) > half_width_px) return std::nullopt;
+  return EdgePointSample{p + (best - r + offset) * n, step};
+}
+
+}  // namespace
+
+std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
+                                               const std::vector<Eigen::Vector2d>& positions,
+                                               const std::vector<Eigen::Vector2d>& normals,
+                                               double half_width_px, int polarity,
+                                               double min_step_grey) {
+  std::vector<EdgePointSample> out;
+  const int search = static_cast<int>(std::ceil(half_width_px));
+  const int r = search + kStep + 2;
+  const double reach = std::hypot(r, kAlong) + 2;
+  std::vector<float> profile(2 * r + 1);
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const Eigen::Vector2d& p = positions[i];
+    const Eigen::Vector2d& n = normals[i];
+    if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
+        p.y() > grey.rows - 1 - reach) {
+      continue;
+    }
+    const Eigen::Vector2d t(-n.y(), n.x());
+    for (int o = -r; o <= r; ++o) {
+      float sum = 0;
+      for (int a = -kAlong; a <= kAlong; ++a) {
+        const Eigen::Vector2d q = p + o * n + a * t;
+        sum += Bilinear(grey, q.x(), q.y());
+      }
+      profile[o + r] = sum / (2 * kAlong + 1);
+    }
+    if (auto found = PeakOfProfile(profile.data(), r, search, half_width_px, polarity,
+                                   min_step_grey, p, n)) {
+      out.push_back(*found);
+    }
+  }
+  return out;
+}
+
+std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
+                                                const Eigen::Vector2d& direction, int count,
+                                                int spacing_px, double half_width_px, int polarity,
+                                                double min_step_grey) {
+  std::vector<EdgePointSample> out;
+  if (count <= 0 || spacing_px <= 0) return out;
+  const int search = static_cast<int>(std::ceil(half_width_px));
+  const int r = search + kStep + 2;
+  const double reach = std::hypot(r, kAlong) + 2;
+  const Eigen::Vector2d d = direction.normalized();
+  const Eigen::Vector2d n(-d.y(), d.x());
+  // Patch coordinates: column c along the edge, row o across it; image point =
+  // origin + c d + o n. The image region it covers, as float (no rounding of the samples).
+  const int width = (count - 1) * spacing_px + 2 * kAlong + 1, height = 2 * r + 1;
+  const Eigen::Vector2d origin = start - kAlong * d - r * n;
+  Eigen::Vector2d lo = origin, hi = origin;
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(origin + (width - 1) * d), Eigen::Vector2d(origin + (height - 1) * n),
+        Eigen::Vector2d(origin + (width - 1) * d + (height - 1) * n)}) {
+    lo = lo.cwiseMin(corner);
+    hi = hi.cwiseMax(corner);
+  }
+  const cv::Rect roi =
+      cv::Rect(static_cast<int>(std::floor(lo.x())) - 1, static_cast<int>(std::floor(lo.y())) - 1,
+               static_cast<int>(std::ceil(hi.x() - lo.x())) + 4,
+               static_cast<int>(std::ceil(hi.y() - lo.y())) + 4) &
+      cv::Rect(0, 0, grey.cols, grey.rows);
+  if (roi.width < 2 || roi.height < 2) return out;
+  cv::Mat region;
+  grey(roi).convertTo(region, CV_32F);
+  const cv::Matx23d patch_to_region(d.x(), n.x(), origin.x() - roi.x, d.y(), n.y(),
+                                    origin.y() - roi.y);
+  cv::Mat patch;
+  cv::warpAffine(region, patch, patch_to_region, cv::Size(width, height),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+  // Running sums along each row give every position's average over 2 kAlong + 1 columns.
+  cv::Mat sums;
+  cv::integral(patch, sums, CV_64F);
+  std::vector<float> profile(height);
+  const double scale = 1.0 / (2 * kAlong + 1);
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector2d p = start + static_cast<double>(i * spacing_px) * d;
+    if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
+        p.y() > grey.rows - 1 - reach) {
+      continue;
+    }
+    const int c0 = i * spacing_px, c1 = c0 + 2 * kAlong + 1;
+    for (int o = 0; o < height; ++o) {
+      const double* row0 = sums.ptr<double>(o);
+      const double* row1 = sums.ptr<double>(o + 1);
+      profile[o] = static_cast<float>(scale * ((row1[c1] - row1[c0]) - (row0[c1] - row0[c0])));
+    }
+    if (auto found = PeakOfProfile(profile.data(), r, search, half_width_px, polarity,
+                                   min_step_grey, p, n)) {
+      out.push_back(*found);
+    }
+  }
+  return out;
+}
+
+std::vector<EdgePointSample> MajoritySign(std::vector<EdgePointSample> samples) {
+  int balance = 0;
+  for (const auto& s : samples) balance += s.step_grey > 0 ? 1 : -1;
+  std::erase_if(samples,
+                [&](const EdgePointSample& s) { return (s.step_grey > 0) != (balance > 0); });
+  if (samples.size() < 3) samples.clear();  // a lone point or two in a chunk: noise
+  return samples;
+}
+
+}  // namespace monocle
