@@ -91,10 +91,11 @@ void Undistort(const CameraIntrinsics& k, const std::vector<Eigen::Vector2d>& px
 
 // One edge: a first fit of the detector's points, then a second pass along the fitted line
 // as the lens bends it, with a narrower window (a straight first pass drifts off a distorted
-// edge far from the corner), and the final robust fit. Updates the edge's points. Without
-// `second_pass`, the first fit.
+// edge far from the corner), and the final robust fit. Updates the edge's points (and says
+// whether the second pass replaced them).
 std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, int m,
-                               double min_step, bool second_pass, CornerEdges* edges) {
+                               double min_step, CornerEdges* edges, bool* replaced) {
+  *replaced = false;
   const double focal = 0.5 * (k.fx + k.fy);
   const double floor_sigma = 0.05 / focal;  // no edge is measured better than 0.05 px
   std::vector<Eigen::Vector2d> points;
@@ -102,12 +103,6 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   Undistort(k, edges->points_px[m], edges->step_grey[m], &points, &steps);
   auto first = RobustLineFit(points, steps, floor_sigma);
   if (!first) return std::nullopt;
-  if (!second_pass) {
-    if (first->direction.dot(first->centroid -
-                             PixelToNormalized(k, edges->corner_px).value_or(first->centroid)) < 0)
-      first->direction = -first->direction;
-    return first;
-  }
   const Eigen::Vector2d corner_n = PixelToNormalized(k, edges->corner_px).value_or(first->centroid);
   Eigen::Vector2d dir = first->direction;
   if (dir.dot(first->centroid - corner_n) < 0) dir = -dir;
@@ -136,6 +131,7 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
     second.insert(second.end(), chunk.begin(), chunk.end());
   }
   if (second.size() >= 10) {
+    *replaced = true;
     edges->points_px[m].clear();
     edges->step_grey[m].clear();
     for (const auto& sample : second) {
@@ -193,8 +189,8 @@ std::string Format(const char* format, double a, double b = 0) {
 // Per-edge support against the refined pose, and whether to call the pose suspect.
 void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits,
                    const std::array<int, 3>& axis_of_line, const Eigen::Vector2d& corner_n,
-                   const CornerQualityOptions& quality, double independent_fraction,
-                   double spacing_px, CornerLocation* out) {
+                   const CornerQualityOptions& quality, const std::array<double, 3>& spacing_px,
+                   CornerLocation* out) {
   const double focal = 0.5 * (k.fx + k.fy);
   const Eigen::Vector3d c_cam = CornerToCamera(out->pose, Eigen::Vector3d::Zero());
   const Eigen::Vector2d c2 = c_cam.head<2>() / c_cam.z();
@@ -225,13 +221,14 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
     s.length_px = (out->line_end_px[axis] - out->corner_px).norm();
     s.visible_length_px = VisibleLengthPx(k, out->pose, axis, out->corner_px);
     // Points are spacing_px apart from 8 px off the corner.
-    s.coverage = std::min(1.0, spacing_px * s.points / std::max(s.visible_length_px - 8, 2.0));
+    s.coverage = std::min(1.0, spacing_px[m] * s.points / std::max(s.visible_length_px - 8, 2.0));
     std::vector<double> steps;
     for (double step : fit.inlier_steps) steps.push_back(std::abs(step));
     std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
     s.contrast_grey = steps.empty() ? 0 : steps[steps.size() / 2];
     s.contrast_to_noise = s.contrast_grey / std::max(out->noise_sigma_grey, 0.5);
-    const double independent = std::max(2.0, s.points * independent_fraction);
+    const double independent =
+        std::max(2.0, s.points * std::min(1.0, spacing_px[m] / kProfileWindowPx));
     s.sigma_px = fit.normal_rms * focal / std::sqrt(independent);
     // Scatter about the pose's line = scatter about its own line + the lines' separation.
     const double own_rms_px = fit.normal_rms * focal;
@@ -285,15 +282,18 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   const double focal = 0.5 * (k.fx + k.fy);
   const double min_step = MinStepGrey(options, edges.noise_sigma_grey);
   std::array<LineFit, 3> fits;
+  std::array<bool, 3> replaced{};
   for (int m = 0; m < 3; ++m) {
-    auto fit = FitEdge(grey, k, m, min_step, /*second_pass=*/true, &edges);
+    auto fit = FitEdge(grey, k, m, min_step, &edges, &replaced[m]);
     if (!fit) return MakeError(ErrorCode::kNotFound, "a corner edge could not be fitted");
     fits[m] = std::move(*fit);
   }
   const auto corner = ConstrainedCorner(fits);
   if (!corner) return MakeError(ErrorCode::kDegenerate, "the corner edges are parallel");
 
-  const double independent_fraction = std::min(1.0, edges.sample_spacing_px / kProfileWindowPx);
+  // The second pass (2 px apart) replaces an edge's first points when it finds enough.
+  std::array<double, 3> spacing_px;
+  for (int m = 0; m < 3; ++m) spacing_px[m] = replaced[m] ? 2.0 : edges.sample_spacing_px;
   std::array<ObservedRay, 3> rays;
   std::array<LineObservation, 3> observations;
   double point_sigma2 = 0;
@@ -316,7 +316,8 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     // Each point averages the image over 7 px along the edge and they are 2 px apart: about
     // 2/7 of them carry independent noise. (Weighting each line by its own scatter instead of
     // the pooled one made the median error 40 % worse on the realistic development set.)
-    obs.independent_points = std::max(2.0, obs.num_points * independent_fraction);
+    obs.independent_points =
+        std::max(2.0, obs.num_points * std::min(1.0, spacing_px[m] / kProfileWindowPx));
     point_sigma2 += std::pow(fits[m].normal_rms * focal, 2) * obs.num_points;
     total_points += obs.num_points;
   }
@@ -348,8 +349,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     return MakeError(ErrorCode::kDegenerate, "the refined pose puts the corner behind the camera");
   }
   out.corner_px = NormalizedToPixel(k, c_cam.head<2>() / c_cam.z());
-  AssessSupport(k, fits, axis_of_line, *corner, quality, independent_fraction,
-                edges.sample_spacing_px, &out);
+  AssessSupport(k, fits, axis_of_line, *corner, quality, spacing_px, &out);
   // The tracker relies on edges listed as X, Y, Z: reorder what the detector found.
   CornerEdges ordered = edges;
   for (int m = 0; m < 3; ++m) {
