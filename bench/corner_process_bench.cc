@@ -37,8 +37,10 @@ int main(int argc, char** argv) {
   int frames = 300, rounds = 3;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
-    if (flag == "--frames") frames = std::atoi(argv[i + 1]);
-    else if (flag == "--rounds") rounds = std::atoi(argv[i + 1]);
+    if (flag == "--frames")
+      frames = std::atoi(argv[i + 1]);
+    else if (flag == "--rounds")
+      rounds = std::atoi(argv[i + 1]);
     else {
       std::cerr << "usage: corner_process_bench [--frames N] [--rounds R]\n";
       return 2;
@@ -82,10 +84,10 @@ int main(int argc, char** argv) {
   std::ifstream results(dir / "monocle.jsonl");
   for (std::string line; std::getline(results, line); ++lines)
     failed += line.find("\"error\"") != std::string::npos;
-  std::cout << "monocle corner locate: " << 1e3 * ours_s / (rounds * frames)
-            << " ms/frame over " << frames << " frames (" << failed << " failed of " << lines
-            << "), baseline " << 1e3 * theirs_s / (rounds * frames) << " ms/frame, ratio "
-            << ours_s / theirs_s << " (goal <= 0.4)\n";
+  std::cout << "monocle corner locate: " << 1e3 * ours_s / (rounds * frames) << " ms/frame over "
+            << frames << " frames (" << failed << " failed of " << lines << "), baseline "
+            << 1e3 * theirs_s / (rounds * frames) << " ms/frame, ratio " << ours_s / theirs_s
+            << " (goal <= 0.4)\n";
   std::filesystem::remove_all(dir);
   return 0;
 }
