@@ -134,7 +134,8 @@ void CameraWorker::Process() {
         tracker_intrinsics_.fy != intrinsics.fy || tracker_intrinsics_.cx != intrinsics.cx ||
         tracker_intrinsics_.cy != intrinsics.cy ||
         tracker_intrinsics_.distortion != intrinsics.distortion ||
-        tracker_intrinsics_.width_px != intrinsics.width_px || tracker_ceiling_m_ != ceiling_m) {
+        tracker_intrinsics_.width_px != intrinsics.width_px ||
+        tracker_intrinsics_.height_px != intrinsics.height_px || tracker_ceiling_m_ != ceiling_m) {
       tracker_.emplace(intrinsics, ceiling_m);
       tracker_intrinsics_ = intrinsics;
       tracker_ceiling_m_ = ceiling_m;

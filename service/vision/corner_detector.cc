@@ -662,8 +662,13 @@ std::string DiagnoseMissingY(const cv::Mat& grey, const std::vector<Segment>& se
   }
   char where[64];
   std::snprintf(where, sizeof where, " at (%.0f, %.0f) px", corner.x(), corner.y());
-  return edges + "; 2 meet" + where + " but the third is too weak (contrast " +
-         FormatGrey(strongest) + " grey levels at noise " + FormatGrey(noise_sigma) + ")";
+  const std::string measured =
+      "contrast " + FormatGrey(strongest) + " grey levels at noise " + FormatGrey(noise_sigma);
+  // A step well above the noise that still is no edge of a Y: clutter or a curved shade.
+  if (strongest > 4 * std::max(noise_sigma, 0.5))
+    return edges + "; 2 meet" + where + " but no straight third edge leaves it (strongest step " +
+           measured + ")";
+  return edges + "; 2 meet" + where + " but the third is too weak (" + measured + ")";
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include "camera/render/corner_renderer.h"
 #include "service/geometry/test_scenes.h"
 
@@ -87,6 +89,25 @@ TEST(CornerLocatorErrorsTest, OnlyTwoEdgesInViewIsNoCorner) {
   const auto got = LocateCorner(RenderCornerScene(k, pose, CornerScene{}), k, 1.6);
   ASSERT_FALSE(got.ok());
   EXPECT_NE(got.error().message.find("no ceiling corner"), std::string::npos);
+}
+
+TEST(CornerLocatorErrorsTest, AWallPaintedLikeTheCeilingLeavesTwoEdgesAndSaysSo) {
+  // The wall x = 0 exactly as bright as the ceiling: the Y edge between them vanishes; the X
+  // and Z edges still meet at the corner. The error names what was seen, with numbers.
+  const auto k = testing::PaperCamera();
+  const CornerPose pose{2.0, 1.5, 1.6, 2.2143, 0.9, 0.1};
+  CornerScene scene;
+  scene.realistic = RandomRealisticLook(3, k);
+  scene.realistic->wall_x0_grey = scene.realistic->ceiling_grey;
+  scene.realistic->shading_per_m[0] = scene.realistic->shading_per_m[1] = Eigen::Vector2d::Zero();
+  scene.realistic->shading_per_m[2] = Eigen::Vector2d::Zero();
+  const auto got = LocateCorner(RenderCornerScene(k, pose, scene), k, 1.6);
+  ASSERT_FALSE(got.ok()) << *got;
+  const std::string& m = got.error().message;
+  std::cout << m << "\n";
+  EXPECT_NE(m.find("2 meet at"), std::string::npos) << m;
+  EXPECT_NE(m.find("the third is too weak (contrast"), std::string::npos) << m;
+  EXPECT_NE(m.find("grey levels at noise"), std::string::npos) << m;
 }
 
 TEST(CornerLocatorErrorsTest, TinyImageAndMissingDistanceAreClearErrors) {
