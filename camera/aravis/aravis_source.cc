@@ -261,13 +261,14 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
     SimCameraOptions sim;
     sim.scene = options.device == "sim-floor" ? SimScene::kFloor : SimScene::kCorner;
     sim.realistic = options.device == "sim-corner-realistic";
-    sim.serial = options.device;
+    // A fake camera's serial lives in a 16-byte GenICam register: a longer one leaves the
+    // device without its GenICam data. "sim-corner-realistic" is 20 characters.
+    sim.serial = options.device.size() <= 15 ? options.device : "sim-realistic";
     sim.trajectory_frames = 8;
     auto scenes = SimScenes::Render(sim);
     if (!scenes) return scenes.error();
     src->scenes_ = *scenes;
-    src->fake_device_ =
-        GObjectPtr<ArvDevice>(arv_fake_device_new(options.device.c_str(), err.out()));
+    src->fake_device_ = GObjectPtr<ArvDevice>(arv_fake_device_new(sim.serial.c_str(), err.out()));
     if (!src->fake_device_)
       return Fail(ErrorCode::kIo, "cannot create simulated camera: " + err.message());
     src->scenes_->Attach(arv_fake_device_get_fake_camera(ARV_FAKE_DEVICE(src->fake_device_.get())));

@@ -1,4 +1,5 @@
-// The embedded simulated cameras `sim-corner` and `sim-floor`: two cameras in one process
+// The embedded simulated cameras `sim-corner`, `sim-corner-realistic` and `sim-floor`: cameras
+// in one process
 // through Aravis's in-process fake devices, no network and no other process.
 #include <gtest/gtest.h>
 
@@ -51,6 +52,26 @@ TEST(SimulatedCamerasTest, CornerAndFloorCamerasRunSideBySide) {
   EXPECT_NEAR(cal->pose.height_m, floor_truth->floor_pose().height_m,
               0.002 * floor_truth->floor_pose().height_m);
   EXPECT_NEAR(cal->pose.pitch_rad, floor_truth->floor_pose().pitch_rad, 0.0005);
+}
+
+TEST(SimulatedCamerasTest, TheRealisticCornerCameraShowsAWhitePaintedRoom) {
+  auto camera = AravisSource::Open(Device("sim-corner-realistic"));
+  ASSERT_TRUE(camera.ok()) << camera.error();
+  const SimScenes* truth = (*camera)->SimulatedScenes();
+  ASSERT_NE(truth, nullptr);
+  EXPECT_TRUE(truth->options().realistic);
+  auto frame = (*camera)->Next(std::chrono::milliseconds(3000));
+  ASSERT_TRUE(frame.ok()) << frame.error();
+  EXPECT_EQ(cv::norm(frame->grey, truth->FrameFor(frame->sequence), cv::NORM_INF), 0);
+  // Low contrast: the whole frame spans far fewer grey levels than the clean look's 100+.
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(frame->grey, &lo, &hi);
+  EXPECT_LT(hi - lo, 120);
+  const CornerPose pose = truth->CornerPoseFor(frame->sequence);
+  const auto got = LocateCorner(frame->grey, truth->intrinsics(), pose.z_m);
+  ASSERT_TRUE(got.ok()) << got.error();
+  EXPECT_NEAR(got->pose.x_m, pose.x_m, 0.01 * pose.x_m);
+  EXPECT_NEAR(got->pose.y_m, pose.y_m, 0.01 * pose.y_m);
 }
 
 }  // namespace
