@@ -261,8 +261,8 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
     SimCameraOptions sim;
     sim.scene = options.device == "sim-floor" ? SimScene::kFloor : SimScene::kCorner;
     sim.realistic = options.device == "sim-corner-realistic";
-    // A fake camera's serial lives in a 16-byte GenICam register: a longer one leaves the
-    // device without its GenICam data. "sim-corner-realistic" is 20 characters.
+    // A fake camera's serial fits 15 characters (SimScenes checks): "sim-corner-realistic"
+    // is 20.
     sim.serial = options.device.size() <= 15 ? options.device : "sim-realistic";
     sim.trajectory_frames = 8;
     auto scenes = SimScenes::Render(sim);

@@ -64,6 +64,12 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   }
   if (!(o.fps > 0 && o.fps <= 1000))
     return MakeError(ErrorCode::kInvalidArgument, "--fps must be in (0, 1000]");
+  // Aravis's fake cameras keep the serial in a 16-byte GenICam register (with its NUL); a
+  // longer one leaves the device without GenICam data and Aravis only logs criticals.
+  if (o.serial.empty() || o.serial.size() > 15) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--serial '" + o.serial.substr(0, 40) + "' must be 1 to 15 characters");
+  }
   std::shared_ptr<SimScenes> cam(new SimScenes());
   cam->options_ = o;
   cam->intrinsics_ = SimIntrinsics(o.width, o.height);

@@ -53,7 +53,7 @@ trajectory of N poses (frame id k shows pose k mod N), `floor` a chessboard and 
 the floor. Runs until Ctrl-C (SIGINT) or SIGTERM.
 
   --ip A              address to serve on (default 127.0.0.1; one camera per address)
-  --serial S          serial number (default MONOCLE-SIM)
+  --serial S          serial number, 1 to 15 characters (default MONOCLE-SIM)
   --width/--height    image size, pixels (default 1280x1024)
   --fps F             frame rate, Hz (default 30)
   --frames N          poses on the built-in trajectory (default 16)

@@ -6,10 +6,11 @@
 namespace monocle {
 namespace {
 
-// Pixels along the image of one corner axis from the corner outwards, every `spacing_px`,
-// with the unit normal of the (lens-bent) curve there.
-void PredictEdge(const CameraIntrinsics& k, const CornerPose& pose, int axis, double spacing_px,
-                 std::vector<Eigen::Vector2d>* positions, std::vector<Eigen::Vector2d>* normals) {
+// Pixels along the (lens-bent) image of one corner axis from the corner outwards, every
+// `spacing_px`.
+std::vector<Eigen::Vector2d> PredictEdge(const CameraIntrinsics& k, const CornerPose& pose,
+                                         int axis, int spacing_px) {
+  std::vector<Eigen::Vector2d> positions;
   const double scale = std::max(CameraPosition(pose).norm(), 0.1);
   const Eigen::Vector3d c = CornerToCamera(pose, Eigen::Vector3d::Zero());
   const Eigen::Vector2d corner_px = NormalizedToPixel(k, c.head<2>() / c.z());
@@ -24,15 +25,13 @@ void PredictEdge(const CameraIntrinsics& k, const CornerPose& pose, int axis, do
     const double step = (px - previous).norm();
     if (step <= 0) continue;
     while (travelled + step >= next) {  // resample the curve at equal arc length
-      const double f = (next - travelled) / step;
-      const Eigen::Vector2d tangent = (px - previous) / step;
-      positions->push_back(previous + f * (px - previous));
-      normals->emplace_back(-tangent.y(), tangent.x());
+      positions.push_back(previous + (next - travelled) / step * (px - previous));
       next += spacing_px;
     }
     travelled += step;
     previous = px;
   }
+  return positions;
 }
 
 }  // namespace
@@ -64,8 +63,7 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
   edges.corner_px = NormalizedToPixel(k, c.head<2>() / c.z());
   const double min_step = MinStepGrey(detector_, noise_sigma_grey_);
   for (int axis = 0; axis < 3; ++axis) {
-    std::vector<Eigen::Vector2d> positions, normals;
-    PredictEdge(k, *last_pose_, axis, options_.spacing_px, &positions, &normals);
+    const auto positions = PredictEdge(k, *last_pose_, axis, options_.spacing_px);
     if (positions.size() < 10) return MakeError(ErrorCode::kNotFound, "an edge left the view");
     edges.direction[axis] = (positions[1] - positions[0]).normalized();
     for (size_t begin = 0; begin < positions.size(); begin += 16) {
@@ -73,7 +71,7 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
       // A 48 px stretch of the lens-bent edge is straight to well under 0.1 px.
       const Eigen::Vector2d chord = positions[end - 1] - positions[begin];
       const Eigen::Vector2d along = chord.norm() > 0 ? chord.normalized() : edges.direction[axis];
-      const int spacing = static_cast<int>(std::lround(options_.spacing_px));
+      const int spacing = options_.spacing_px;
       const int count = static_cast<int>(std::lround(chord.norm() / spacing)) + 1;
       for (const auto& sample :
            MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, spacing,

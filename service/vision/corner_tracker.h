@@ -17,7 +17,7 @@ namespace monocle {
 struct CornerTrackerOptions {
   int detect_every_n_frames = 30;    // a full detection at least this often (1: always detect)
   double search_half_width_px = 12;  // how far an edge may move between frames, pixels
-  double spacing_px = 3;             // between edge points along an edge
+  int spacing_px = 3;                // between edge points along an edge, whole pixels
   double min_coverage = 0.25;        // each edge found on at least this much of its prediction
 };
 

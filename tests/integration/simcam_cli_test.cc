@@ -65,5 +65,13 @@ TEST(SimcamCliTest, SnapshotOfAnUnknownCameraSaysSo) {
   EXPECT_NE(r.err.find("no camera 'no-such-camera'"), std::string::npos) << r.err;
 }
 
+TEST(SimcamCliTest, ASerialTooLongForTheCameraIsRefusedWithTheLimit) {
+  TempDir dir("monocle_simcam_serial");
+  const auto r = RunMonocle(dir, "simcam --scene floor --serial ABCDEFGHIJKLMNOPQRSTU");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.err.find("must be 1 to 15 characters"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("CRITICAL"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace monocle
