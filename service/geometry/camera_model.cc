@@ -101,4 +101,41 @@ std::optional<Eigen::Vector2d> PixelToNormalized(const CameraIntrinsics& k,
   return n;
 }
 
+Eigen::Matrix<double, 2, kNumIntrinsicParams> PixelJacobianWrtIntrinsics(
+    const CameraIntrinsics& k, const Eigen::Vector2d& n) {
+  const Eigen::Vector2d d = Distort(k, n);
+  const double x = n.x(), y = n.y();
+  const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;
+  // Distorted coordinates are linear in k1 k2 p1 p2 k3 (with k4..k6 = 0).
+  Eigen::Matrix<double, 2, 5> dd;
+  dd << x * r2, x * r4, 2 * x * y, r2 + 2 * x * x, x * r6,  //
+      y * r2, y * r4, r2 + 2 * y * y, 2 * x * y, y * r6;
+  Eigen::Matrix<double, 2, kNumIntrinsicParams> j = Eigen::Matrix<double, 2, 9>::Zero();
+  j(0, 0) = d.x();
+  j(1, 1) = d.y();
+  j(0, 2) = 1;
+  j(1, 3) = 1;
+  j.block<1, 5>(0, 4) = k.fx * dd.row(0);
+  j.block<1, 5>(1, 4) = k.fy * dd.row(1);
+  return j;
+}
+
+Eigen::Matrix<double, 2, kNumIntrinsicParams> NormalizedJacobianWrtIntrinsics(
+    const CameraIntrinsics& k, const Eigen::Vector2d& normalized,
+    const Eigen::Matrix2d& normalized_from_pixel) {
+  // The pixel is fixed: 0 = d(pixel)/dn * dn + d(pixel)/d(theta) * d(theta).
+  return -normalized_from_pixel * PixelJacobianWrtIntrinsics(k, normalized);
+}
+
+CameraIntrinsics PerturbIntrinsics(const CameraIntrinsics& k,
+                                   const Eigen::Matrix<double, kNumIntrinsicParams, 1>& delta) {
+  CameraIntrinsics out = k;
+  out.fx += delta[0];
+  out.fy += delta[1];
+  out.cx += delta[2];
+  out.cy += delta[3];
+  for (int i = 0; i < 5; ++i) out.distortion[i] += delta[4 + i];
+  return out;
+}
+
 }  // namespace monocle

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <string>
 #include <optional>
 #include <ostream>
 
@@ -25,6 +26,29 @@ struct CameraIntrinsics {
 };
 
 std::ostream& operator<<(std::ostream& os, const CameraIntrinsics& k);
+
+// The intrinsic parameters whose uncertainty monocle tracks, in this order:
+// fx fy cx cy (pixels), k1 k2 p1 p2 k3 (OpenCV's distortion, dimensionless). Parameters a
+// calibration held fixed (e.g. k3 = 0) have zero rows and columns in the covariance.
+constexpr int kNumIntrinsicParams = 9;
+using IntrinsicsCovariance = Eigen::Matrix<double, kNumIntrinsicParams, kNumIntrinsicParams>;
+inline constexpr std::array<const char*, kNumIntrinsicParams> kIntrinsicParamNames = {
+    "fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"};
+
+// d(pixel)/d(fx fy cx cy k1 k2 p1 p2 k3) of a fixed normalized (undistorted) point. Needs
+// k4..k6 = 0 (the rational model is not tracked).
+Eigen::Matrix<double, 2, kNumIntrinsicParams> PixelJacobianWrtIntrinsics(
+    const CameraIntrinsics& k, const Eigen::Vector2d& normalized);
+
+// d(normalized)/d(intrinsics) of a fixed pixel: how the ray of an observed pixel moves when
+// the intrinsics change. `normalized_from_pixel` is PixelToNormalized's Jacobian there.
+Eigen::Matrix<double, 2, kNumIntrinsicParams> NormalizedJacobianWrtIntrinsics(
+    const CameraIntrinsics& k, const Eigen::Vector2d& normalized,
+    const Eigen::Matrix2d& normalized_from_pixel);
+
+// Adds `delta` (in the order above) to the intrinsics; for numeric checks and propagation.
+CameraIntrinsics PerturbIntrinsics(const CameraIntrinsics& k,
+                                   const Eigen::Matrix<double, kNumIntrinsicParams, 1>& delta);
 
 // Normalized (undistorted) -> distorted normalized coordinates, and optionally the 2x2
 // Jacobian d(distorted)/d(normalized).

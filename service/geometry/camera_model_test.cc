@@ -107,3 +107,40 @@ TEST(CameraModelTest, NoDistortionIsPlainPinhole) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// Round trip: move each intrinsic parameter a little, re-project / re-undistort, and compare
+// with the analytic Jacobians.
+TEST(CameraModelTest, IntrinsicsJacobiansMatchFiniteDifferences) {
+  const CameraIntrinsics k = WideAngleCamera();
+  const double steps[kNumIntrinsicParams] = {1e-3, 1e-3, 1e-3, 1e-3, 1e-7,
+                                             1e-7, 1e-8, 1e-8, 1e-7};
+  const Eigen::Vector2d pixels[] = {{100, 80}, {640, 500}, {1200, 950}};
+  for (const auto& px : pixels) {
+    Eigen::Matrix2d n_from_px;
+    const auto n = PixelToNormalized(k, px, &n_from_px);
+    ASSERT_TRUE(n);
+    const auto j_pixel = PixelJacobianWrtIntrinsics(k, *n);
+    const auto j_normalized = NormalizedJacobianWrtIntrinsics(k, *n, n_from_px);
+    for (int p = 0; p < kNumIntrinsicParams; ++p) {
+      Eigen::Matrix<double, kNumIntrinsicParams, 1> delta =
+          Eigen::Matrix<double, kNumIntrinsicParams, 1>::Zero();
+      delta[p] = steps[p];
+      const auto plus = PerturbIntrinsics(k, delta), minus = PerturbIntrinsics(k, -delta);
+      const Eigen::Vector2d d_pixel =
+          (NormalizedToPixel(plus, *n) - NormalizedToPixel(minus, *n)) / (2 * steps[p]);
+      EXPECT_NEAR((d_pixel - j_pixel.col(p)).norm(), 0, 1e-5 * (1 + d_pixel.norm()))
+          << kIntrinsicParamNames[p] << " at " << px.transpose();
+      const Eigen::Vector2d d_normalized =
+          (*PixelToNormalized(plus, px) - *PixelToNormalized(minus, px)) / (2 * steps[p]);
+      EXPECT_NEAR((d_normalized - j_normalized.col(p)).norm(), 0,
+                  1e-5 * (1 + d_normalized.norm()))
+          << kIntrinsicParamNames[p] << " at " << px.transpose();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace monocle

@@ -117,8 +117,41 @@ Result<Eigen::VectorXd> InitialGuessFromHomography(const BoardObservation& board
   return q;
 }
 
+using IntrinsicsSensitivity = Eigen::Matrix<double, Eigen::Dynamic, kNumIntrinsicParams>;
+
+// d(residuals)/d(intrinsics) at parameters q: each corner's pixel moves with the intrinsics
+// while its ray stays put.
+IntrinsicsSensitivity ResidualJacobianWrtIntrinsics(const CameraIntrinsics& k,
+                                                    const BoardObservation& board,
+                                                    const Eigen::VectorXd& q) {
+  const FloorPose pose = PoseFromParams(q);
+  const Eigen::Matrix3d rot = RotationCameraFromRobot(pose);
+  const Eigen::Vector3d trans = TranslationCameraFromRobot(pose);
+  const Eigen::Vector2d origin(q[4], q[5]);
+  IntrinsicsSensitivity j(2 * board.pixels.size(), kNumIntrinsicParams);
+  for (int jj = 0; jj < board.rows; ++jj) {
+    for (int i = 0; i < board.cols; ++i) {
+      const Eigen::Vector3d p_c =
+          rot * BoardToRobot(pose.yaw_rad, origin, board.BoardPoint(i, jj)) + trans;
+      j.middleRows<2>(2 * (jj * board.cols + i)) =
+          PixelJacobianWrtIntrinsics(k, p_c.head<2>() / p_c.z());
+    }
+  }
+  return j;
+}
+
+// Adds the intrinsics' share to the covariance of (h, pitch, yaw, roll) given the fit's
+// sensitivity `d_pose_d_k` (4 x 9) to them, and sets the cross-covariance.
+void AddIntrinsicsUncertainty(const Eigen::Matrix<double, 4, kNumIntrinsicParams>& d_pose_d_k,
+                              const IntrinsicsCovariance& k_covariance, FloorCalibration* out) {
+  out->corner_covariance = out->covariance;
+  out->intrinsics_cross_covariance = d_pose_d_k * k_covariance;
+  out->covariance += out->intrinsics_cross_covariance * d_pose_d_k.transpose();
+}
+
 Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObservation& board,
-                                       const std::vector<Eigen::Vector2d>& normalized) {
+                                       const std::vector<Eigen::Vector2d>& normalized,
+                                       const IntrinsicsCovariance& k_covariance) {
   auto init = InitialGuessFromHomography(board, normalized);
   if (!init) return init.error();
   Eigen::VectorXd q = *init;
@@ -152,6 +185,13 @@ Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObs
   const int order[4] = {0, 1, 3, 2};
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) out.covariance(a, b) = cov6(order[a], order[b]);
+  // Sensitivity of the optimum to the intrinsics (6 x 9), then in output order.
+  const Eigen::MatrixXd& jq = summary.jacobian;
+  const Eigen::MatrixXd d_q_d_k =
+      -(jq.transpose() * jq).ldlt().solve(jq.transpose() * ResidualJacobianWrtIntrinsics(k, board, q));
+  Eigen::Matrix<double, 4, kNumIntrinsicParams> d_pose_d_k;
+  for (int a = 0; a < 4; ++a) d_pose_d_k.row(a) = d_q_d_k.row(order[a]);
+  AddIntrinsicsUncertainty(d_pose_d_k, k_covariance, &out);
   return out;
 }
 
@@ -216,7 +256,8 @@ std::optional<PaperEstimate> EstimatePaper(const BoardObservation& board,
 }
 
 Result<FloorCalibration> CalibratePaper(const CameraIntrinsics& k, const BoardObservation& board,
-                                        const std::vector<Eigen::Vector2d>& normalized) {
+                                        const std::vector<Eigen::Vector2d>& normalized,
+                                        const IntrinsicsCovariance& k_covariance) {
   const auto estimate = EstimatePaper(board, normalized);
   if (!estimate || !(estimate->height > 0)) {
     return MakeError(
@@ -270,6 +311,29 @@ Result<FloorCalibration> CalibratePaper(const CameraIntrinsics& k, const BoardOb
   }
   const Eigen::Matrix3d cov3 = sigma_px * sigma_px * jac * jac.transpose();
   out.covariance.topLeftCorner<3, 3>() = cov3;  // roll is fixed at 0: no variance
+
+  // Sensitivity to the intrinsics by central differences: the corners' rays move with them.
+  Eigen::Matrix<double, 4, kNumIntrinsicParams> d_pose_d_k =
+      Eigen::Matrix<double, 4, kNumIntrinsicParams>::Zero();
+  if (!k_covariance.isZero()) {
+    for (int p = 0; p < kNumIntrinsicParams; ++p) {
+      const double step = std::sqrt(std::max(k_covariance(p, p), 0.0)) * 1e-3;
+      if (!(step > 0)) continue;
+      Eigen::Matrix<double, kNumIntrinsicParams, 1> delta =
+          Eigen::Matrix<double, kNumIntrinsicParams, 1>::Zero();
+      delta[p] = step;
+      const auto n_plus = NormalizedCorners(PerturbIntrinsics(k, delta), board);
+      const auto n_minus = NormalizedCorners(PerturbIntrinsics(k, -delta), board);
+      if (!n_plus || !n_minus) continue;
+      const auto plus = EstimatePaper(board, *n_plus);
+      const auto minus = EstimatePaper(board, *n_minus);
+      if (!plus || !minus) continue;
+      d_pose_d_k.col(p).head<3>() << plus->height - minus->height, plus->pitch - minus->pitch,
+          plus->yaw - minus->yaw;
+      d_pose_d_k.col(p) /= 2 * step;
+    }
+  }
+  AddIntrinsicsUncertainty(d_pose_d_k, k_covariance, &out);
   return out;
 }
 
@@ -306,7 +370,8 @@ Result<BoardObservation> ProjectBoard(const CameraIntrinsics& k, const FloorPose
 }
 
 Result<FloorCalibration> CalibrateFloor(const CameraIntrinsics& k, const BoardObservation& board,
-                                        FloorCalibrationMethod method) {
+                                        FloorCalibrationMethod method,
+                                        const IntrinsicsCovariance& k_covariance) {
   assert(board.pixels.size() == static_cast<size_t>(board.cols * board.rows));
   if (board.cols < 2 || board.rows < 2) {
     return MakeError(ErrorCode::kInvalidArgument, "the board needs at least 2x2 inner corners");
@@ -316,8 +381,20 @@ Result<FloorCalibration> CalibrateFloor(const CameraIntrinsics& k, const BoardOb
   }
   auto normalized = NormalizedCorners(k, board);
   if (!normalized) return normalized.error();
-  return method == FloorCalibrationMethod::kFull ? CalibrateFull(k, board, *normalized)
-                                                 : CalibratePaper(k, board, *normalized);
+  return method == FloorCalibrationMethod::kFull
+             ? CalibrateFull(k, board, *normalized, k_covariance)
+             : CalibratePaper(k, board, *normalized, k_covariance);
+}
+
+MeasurementNoise MeasurementNoiseOf(const FloorCalibration& floor,
+                                    const IntrinsicsCovariance& k_covariance,
+                                    double pixel_sigma_px) {
+  MeasurementNoise noise;
+  noise.pose_covariance = floor.covariance;
+  noise.pixel_sigma_px = pixel_sigma_px;
+  noise.intrinsics_covariance = k_covariance;
+  noise.pose_intrinsics_covariance = floor.intrinsics_cross_covariance;
+  return noise;
 }
 
 }  // namespace monocle

@@ -35,7 +35,14 @@ const char* ToString(FloorCalibrationMethod method);
 
 struct FloorCalibration {
   FloorPose pose;
-  FloorCovariance covariance = FloorCovariance::Zero();            // (h, pitch, yaw, roll)
+  // Covariance of (h, pitch, yaw, roll): corner noise plus the intrinsics' uncertainty,
+  // propagated to first order through the fit (see CalibrateFloor).
+  FloorCovariance covariance = FloorCovariance::Zero();
+  // The part of `covariance` due to corner noise alone, for reports; not stored in files.
+  FloorCovariance corner_covariance = FloorCovariance::Zero();
+  // cov((h, pitch, yaw, roll), intrinsics in camera_model.h's order).
+  Eigen::Matrix<double, 4, kNumIntrinsicParams> intrinsics_cross_covariance =
+      Eigen::Matrix<double, 4, kNumIntrinsicParams>::Zero();
   Eigen::Vector2d board_origin_robot_m = Eigen::Vector2d::Zero();  // (t_x, t_y) of eq. 10
   double rms_px = 0;  // RMS distance between observed and reprojected corners
   FloorCalibrationMethod method = FloorCalibrationMethod::kFull;
@@ -45,8 +52,20 @@ struct FloorCalibration {
 
 std::ostream& operator<<(std::ostream& os, const FloorCalibration& c);
 
-Result<FloorCalibration> CalibrateFloor(const CameraIntrinsics& k, const BoardObservation& board,
-                                        FloorCalibrationMethod method);
+// Fits the floor pose to the board's corners with the intrinsics held fixed. Its
+// covariance: corner noise (sigma from the residuals) through the fit, plus the intrinsics'
+// covariance `k_covariance` through the fit's sensitivity to them, dq/dk = -(J_q^T J_q)^-1
+// J_q^T J_k (implicit function theorem at the optimum), which also gives the
+// cross-covariance the measurement needs.
+Result<FloorCalibration> CalibrateFloor(
+    const CameraIntrinsics& k, const BoardObservation& board, FloorCalibrationMethod method,
+    const IntrinsicsCovariance& k_covariance = IntrinsicsCovariance::Zero());
+
+// Everything a floor measurement's 1 sigma stands on: this calibration, the intrinsics'
+// covariance it was made with, and the pixel noise of the query.
+MeasurementNoise MeasurementNoiseOf(const FloorCalibration& floor,
+                                    const IntrinsicsCovariance& k_covariance,
+                                    double pixel_sigma_px);
 
 // Pixels of every corner of `board` (cols x rows, square) placed on the floor per eq. (10)
 // at `board_origin_robot_m`, for round-trip tests and the renderer's ground truth.

@@ -109,6 +109,45 @@ TEST(FloorCalibrationTest, MonteCarloScatterMatchesReportedSigma) {
   EXPECT_NEAR(std::sqrt(var) / reported, 1.0, 0.25);
 }
 
+// Round trip for the intrinsics' share: refit the same (exact) corners with each intrinsic
+// moved by +-delta; the pose moves as the reported cross-covariance says (cross = dq/dk * K).
+TEST(FloorCalibrationTest, IntrinsicsSensitivityMatchesRefitting) {
+  const CameraIntrinsics k = PaperCamera();
+  const FloorPose truth{1.05, Deg(128), Deg(6), Deg(2)};
+  const auto board = ProjectBoard(k, truth, CenteredOrigin(truth, 11, 8, 0.05), 11, 8, 0.05);
+  ASSERT_TRUE(board.ok());
+  const double sigma[kNumIntrinsicParams] = {3, 3, 2, 2, 0.01, 0.02, 5e-4, 5e-4, 0.02};
+  IntrinsicsCovariance k_cov = IntrinsicsCovariance::Zero();
+  for (int p = 0; p < kNumIntrinsicParams; ++p) k_cov(p, p) = sigma[p] * sigma[p];
+  for (const auto method : {FloorCalibrationMethod::kFull, FloorCalibrationMethod::kPaper}) {
+    const auto cal = CalibrateFloor(k, *board, method, k_cov);
+    ASSERT_TRUE(cal.ok()) << cal.error();
+    const int pose_params = method == FloorCalibrationMethod::kFull ? 4 : 3;
+    for (int p = 0; p < kNumIntrinsicParams; ++p) {
+      Eigen::Matrix<double, kNumIntrinsicParams, 1> delta =
+          Eigen::Matrix<double, kNumIntrinsicParams, 1>::Zero();
+      delta[p] = sigma[p] * 0.01;
+      const auto plus = CalibrateFloor(PerturbIntrinsics(k, delta), *board, method);
+      const auto minus = CalibrateFloor(PerturbIntrinsics(k, -delta), *board, method);
+      ASSERT_TRUE(plus.ok() && minus.ok());
+      const Eigen::Vector4d moved(plus->pose.height_m - minus->pose.height_m,
+                                  plus->pose.pitch_rad - minus->pose.pitch_rad,
+                                  plus->pose.yaw_rad - minus->pose.yaw_rad,
+                                  plus->pose.roll_rad - minus->pose.roll_rad);
+      const Eigen::Vector4d numeric = moved / (2 * delta[p]) * k_cov(p, p);
+      const Eigen::Vector4d reported = cal->intrinsics_cross_covariance.col(p);
+      for (int a = 0; a < pose_params; ++a) {
+        EXPECT_NEAR(reported[a], numeric[a], 1e-3 * std::abs(numeric[a]) + 1e-12)
+            << ToString(method) << " " << kIntrinsicParamNames[p] << " pose param " << a;
+      }
+    }
+    // The total covariance grew by exactly the intrinsics' share.
+    const Eigen::Matrix4d share = cal->covariance - cal->corner_covariance;
+    EXPECT_GT(share.trace(), 0);
+    EXPECT_TRUE(share.isApprox(share.transpose(), 1e-9));
+  }
+}
+
 TEST(FloorCalibrationTest, DegenerateBoardIsAnError) {
   const CameraIntrinsics k = PaperCamera();
   BoardObservation board{3, 3, 0.1, std::vector<Eigen::Vector2d>(9, Eigen::Vector2d(600, 700))};

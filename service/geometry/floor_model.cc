@@ -112,14 +112,22 @@ Result<Eigen::Vector3d> FloorPointFromPixel(const CameraIntrinsics& k, const Flo
 
 namespace {
 
-// Paper coordinates of a pixel and their Jacobian w.r.t. (u, v, roll).
+using IntrinsicsJacobian2 = Eigen::Matrix<double, 2, kNumIntrinsicParams>;
+
+// Paper coordinates of a pixel and their Jacobians w.r.t. (u, v, roll) and the intrinsics.
 struct PaperCoordinates {
   Eigen::Vector2d xy;
   Eigen::Matrix<double, 2, 3> jacobian;  // d(x1, y1)/d(u, v, roll)
+  IntrinsicsJacobian2 intrinsics_jacobian = IntrinsicsJacobian2::Zero();  // d(x1, y1)/d(k)
 };
 
+bool HasIntrinsicsUncertainty(const MeasurementNoise& noise) {
+  return !noise.intrinsics_covariance.isZero();
+}
+
 std::optional<PaperCoordinates> ToPaperCoordinates(const CameraIntrinsics& k, double roll,
-                                                   const Eigen::Vector2d& px) {
+                                                   const Eigen::Vector2d& px,
+                                                   bool with_intrinsics_jacobian) {
   Eigen::Matrix2d dn_dpx;
   const auto n = PixelToNormalized(k, px, &dn_dpx);
   if (!n) return std::nullopt;
@@ -130,7 +138,22 @@ std::optional<PaperCoordinates> ToPaperCoordinates(const CameraIntrinsics& k, do
   out.xy = r * *n;
   out.jacobian.leftCols<2>() = r * dn_dpx;
   out.jacobian.col(2) << out.xy.y(), -out.xy.x();
+  if (with_intrinsics_jacobian)
+    out.intrinsics_jacobian = r * NormalizedJacobianWrtIntrinsics(k, *n, dn_dpx);
   return out;
+}
+
+// Covariance of a measurement with Jacobians w.r.t. the pose, the intrinsics and the pixels.
+template <int Rows, int Pixels>
+Eigen::Matrix<double, Rows, Rows> Propagate(
+    const MeasurementNoise& noise, const Eigen::Matrix<double, Rows, 4>& j_pose,
+    const Eigen::Matrix<double, Rows, kNumIntrinsicParams>& j_intrinsics,
+    const Eigen::Matrix<double, Rows, Pixels>& j_pixel) {
+  const Eigen::Matrix<double, Rows, Rows> cross =
+      j_pose * noise.pose_intrinsics_covariance * j_intrinsics.transpose();
+  return j_pose * noise.pose_covariance * j_pose.transpose() + cross + cross.transpose() +
+         j_intrinsics * noise.intrinsics_covariance * j_intrinsics.transpose() +
+         noise.pixel_sigma_px * noise.pixel_sigma_px * j_pixel * j_pixel.transpose();
 }
 
 }  // namespace
@@ -138,7 +161,7 @@ std::optional<PaperCoordinates> ToPaperCoordinates(const CameraIntrinsics& k, do
 Result<FloorMeasurement> MeasureFloorPoint(const CameraIntrinsics& k, const FloorPose& pose,
                                            const MeasurementNoise& noise,
                                            const Eigen::Vector2d& floor_px) {
-  const auto pc = ToPaperCoordinates(k, pose.roll_rad, floor_px);
+  const auto pc = ToPaperCoordinates(k, pose.roll_rad, floor_px, HasIntrinsicsUncertainty(noise));
   if (!pc) return NotInvertible(floor_px);
   const auto sol = SolveFloor(pc->xy.x(), pc->xy.y(), pose.height_m, pose.pitch_rad);
   if (!sol) return AboveHorizon(floor_px);
@@ -150,11 +173,11 @@ Result<FloorMeasurement> MeasureFloorPoint(const CameraIntrinsics& k, const Floo
   j_pose.col(2).setZero();
   j_pose.col(3) = d_dxy * pc->jacobian.col(2);
   const Eigen::Matrix2d j_pixel = d_dxy * pc->jacobian.leftCols<2>();
+  const Eigen::Matrix<double, 2, kNumIntrinsicParams> j_intrinsics =
+      d_dxy * pc->intrinsics_jacobian;
   FloorMeasurement m;
   m.p_robot_m << sol->x_w, sol->y_w, 0;
-  m.covariance.topLeftCorner<2, 2>() =
-      j_pose * noise.pose_covariance * j_pose.transpose() +
-      noise.pixel_sigma_px * noise.pixel_sigma_px * j_pixel * j_pixel.transpose();
+  m.covariance.topLeftCorner<2, 2>() = Propagate<2, 2>(noise, j_pose, j_intrinsics, j_pixel);
   return m;
 }
 
@@ -162,9 +185,10 @@ Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const F
                                               const MeasurementNoise& noise,
                                               const Eigen::Vector2d& floor_px,
                                               const Eigen::Vector2d& top_px) {
-  const auto pf = ToPaperCoordinates(k, pose.roll_rad, floor_px);
+  const bool with_k = HasIntrinsicsUncertainty(noise);
+  const auto pf = ToPaperCoordinates(k, pose.roll_rad, floor_px, with_k);
   if (!pf) return NotInvertible(floor_px);
-  const auto pt = ToPaperCoordinates(k, pose.roll_rad, top_px);
+  const auto pt = ToPaperCoordinates(k, pose.roll_rad, top_px, with_k);
   if (!pt) return NotInvertible(top_px);
   const double h = pose.height_m, theta = pose.pitch_rad;
   const auto sol = SolveFloor(pf->xy.x(), pf->xy.y(), h, theta);
@@ -203,10 +227,13 @@ Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const F
   j_pixel.block<1, 2>(2, 0) = dz_dyw * j_pixel.block<1, 2>(1, 0);
   j_pixel.block<1, 2>(2, 2) = dz_dy1t * pt->jacobian.block<1, 2>(1, 0);
 
+  Eigen::Matrix<double, 3, kNumIntrinsicParams> j_intrinsics;
+  j_intrinsics.topRows<2>() = d_dxy * pf->intrinsics_jacobian;
+  j_intrinsics.row(2) = dz_dyw * j_intrinsics.row(1) + dz_dy1t * pt->intrinsics_jacobian.row(1);
+
   FloorMeasurement m;
   m.p_robot_m << sol->x_w, y_w, z_w;
-  m.covariance = j_pose * noise.pose_covariance * j_pose.transpose() +
-                 noise.pixel_sigma_px * noise.pixel_sigma_px * j_pixel * j_pixel.transpose();
+  m.covariance = Propagate<3, 4>(noise, j_pose, j_intrinsics, j_pixel);
   return m;
 }
 

@@ -57,9 +57,18 @@ struct FloorMeasurement {
 
 std::ostream& operator<<(std::ostream& os, const FloorMeasurement& m);
 
+// Everything a measurement's 1 sigma stands on, propagated to first order:
+//   cov(p) = [J_pose J_k] [[P, C], [C^T, K]] [J_pose J_k]^T + sigma_px^2 J_px J_px^T
+// with P the floor pose covariance, K the intrinsics' (camera_model.h's parameter order) and
+// C their cross-covariance: a floor pose fitted with slightly wrong intrinsics partly
+// compensates for them, so the two errors are correlated and C matters.
 struct MeasurementNoise {
   FloorCovariance pose_covariance = FloorCovariance::Zero();
   double pixel_sigma_px = 0;  // isotropic noise of every pixel coordinate
+  IntrinsicsCovariance intrinsics_covariance = IntrinsicsCovariance::Zero();
+  // cov((height, pitch, yaw, roll), intrinsics)
+  Eigen::Matrix<double, 4, kNumIntrinsicParams> pose_intrinsics_covariance =
+      Eigen::Matrix<double, 4, kNumIntrinsicParams>::Zero();
 };
 
 // Eq. (5): the floor point (x, y, 0) seen at `floor_px`.

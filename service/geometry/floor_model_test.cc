@@ -140,6 +140,62 @@ TEST(FloorModelTest, UncertaintyMatchesFiniteDifferences) {
   EXPECT_NEAR(f->covariance(1, 1), expected(1, 1), 1e-6 * expected(1, 1));
 }
 
+// The intrinsics' part, cross-covariance included: a random joint covariance of the pose and
+// the intrinsics propagated analytically equals J * Sigma * J^T with J by finite differences.
+TEST(FloorModelTest, IntrinsicsUncertaintyMatchesFiniteDifferences) {
+  const CameraIntrinsics k = PaperCamera();
+  const FloorPose pose{1.1, Deg(112), Deg(3), Deg(4)};
+  const Eigen::Vector2d floor_px(300, 800), top_px(305, 600);
+  constexpr int kParams = 4 + kNumIntrinsicParams;
+  const double steps[kParams] = {1e-6, 1e-7, 1e-7, 1e-7, 1e-4, 1e-4, 1e-4, 1e-4, 1e-7,
+                                 1e-7, 1e-8, 1e-8, 1e-7};
+  Eigen::Matrix<double, 3, kParams> jacobian;
+  for (int p = 0; p < kParams; ++p) {
+    FloorPose plus = pose, minus = pose;
+    Eigen::Matrix<double, kNumIntrinsicParams, 1> dk =
+        Eigen::Matrix<double, kNumIntrinsicParams, 1>::Zero();
+    if (p < 4) {
+      double* fp[4] = {&plus.height_m, &plus.pitch_rad, &plus.yaw_rad, &plus.roll_rad};
+      double* fm[4] = {&minus.height_m, &minus.pitch_rad, &minus.yaw_rad, &minus.roll_rad};
+      *fp[p] += steps[p];
+      *fm[p] -= steps[p];
+    } else {
+      dk[p - 4] = steps[p];
+    }
+    const auto a = MeasureVerticalPoint(PerturbIntrinsics(k, dk), plus, {}, floor_px, top_px);
+    const auto b = MeasureVerticalPoint(PerturbIntrinsics(k, -dk), minus, {}, floor_px, top_px);
+    ASSERT_TRUE(a.ok() && b.ok());
+    jacobian.col(p) = (a->p_robot_m - b->p_robot_m) / (2 * steps[p]);
+  }
+  // A random covariance with the scales of a real calibration.
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal;
+  const double scale[kParams] = {2e-3, 1e-3, 1e-3, 1e-3, 2, 2, 1.5, 1.5, 4e-3, 8e-3, 3e-4, 3e-4, 5e-3};
+  Eigen::Matrix<double, kParams, kParams> a;
+  for (int i = 0; i < kParams; ++i)
+    for (int j = 0; j < kParams; ++j) a(i, j) = normal(rng) * scale[i];
+  const Eigen::Matrix<double, kParams, kParams> sigma = a * a.transpose() / kParams;
+  MeasurementNoise noise;
+  noise.pose_covariance = sigma.topLeftCorner<4, 4>();
+  noise.pose_intrinsics_covariance = sigma.topRightCorner<4, kNumIntrinsicParams>();
+  noise.intrinsics_covariance = sigma.bottomRightCorner<kNumIntrinsicParams, kNumIntrinsicParams>();
+  const Eigen::Matrix3d expected = jacobian * sigma * jacobian.transpose();
+  const auto m = MeasureVerticalPoint(k, pose, noise, floor_px, top_px);
+  ASSERT_TRUE(m.ok());
+  EXPECT_LT((m->covariance - expected).norm(), 1e-4 * expected.norm())
+      << "analytic\n" << m->covariance << "\nnumeric\n" << expected;
+  const auto f = MeasureFloorPoint(k, pose, noise, floor_px);
+  ASSERT_TRUE(f.ok());
+  const Eigen::Matrix2d expected_xy = expected.topLeftCorner(2, 2);
+  const Eigen::Matrix2d got_xy = f->covariance.topLeftCorner(2, 2);
+  EXPECT_LT((got_xy - expected_xy).norm(), 1e-4 * expected_xy.norm());
+  // Without the cross term the answer differs: the test can tell it is there.
+  MeasurementNoise no_cross = noise;
+  no_cross.pose_intrinsics_covariance.setZero();
+  const auto m2 = MeasureVerticalPoint(k, pose, no_cross, floor_px, top_px);
+  EXPECT_GT((m2->covariance - expected).norm(), 1e-2 * expected.norm());
+}
+
 TEST(FloorModelTest, PaperSensitivityExampleOfSectionFour) {
   // Section 4: 0.5 degree of pitch error around 100 degrees moves y_w by about -42.6 mm
   // for a point with v - v0 near 500 px, dominated by the pitch term of eq. (16).
