@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "camera/render/photograph.h"
 #include "camera/render/reference_camera.h"
 
 namespace monocle {
@@ -200,46 +201,6 @@ RealisticLook RandomRealisticLook(uint64_t seed, const CameraIntrinsics& k) {
   return l;
 }
 
-namespace {
-
-// Vignetting, hot-spot, defocus, noise and JPEG on the rendered radiance.
-cv::Mat Photograph(const cv::Mat& radiance, const RealisticLook& look, uint64_t seed) {
-  const int w = radiance.cols, h = radiance.rows;
-  cv::Mat lit(h, w, CV_32F);
-  const double half_diagonal2 = 0.25 * (w * w + h * h);
-  const double r2_hot = 2 * look.hotspot_radius_px * look.hotspot_radius_px;
-  for (int v = 0; v < h; ++v) {
-    const auto* in = radiance.ptr<float>(v);
-    auto* out = lit.ptr<float>(v);
-    for (int u = 0; u < w; ++u) {
-      const double dx = u - 0.5 * (w - 1), dy = v - 0.5 * (h - 1);
-      const double r2 = (dx * dx + dy * dy) / half_diagonal2;       // 1 at the image's corners
-      const double vignette = 1 - look.vignetting * r2 * (2 - r2);  // smooth, flat at the centre
-      const double hx = u - look.hotspot_px.x(), hy = v - look.hotspot_px.y();
-      const double hot = 1 + look.hotspot_gain * std::exp(-(hx * hx + hy * hy) / r2_hot);
-      out[u] = static_cast<float>(in[u] * vignette * hot);
-    }
-  }
-  if (look.blur_sigma_px > 0)
-    cv::GaussianBlur(lit, lit, cv::Size(), look.blur_sigma_px, look.blur_sigma_px,
-                     cv::BORDER_REFLECT);
-  if (look.noise_sigma > 0) {
-    cv::Mat noise(h, w, CV_32F);
-    cv::RNG rng(seed);
-    rng.fill(noise, cv::RNG::NORMAL, 0.0, look.noise_sigma);
-    lit += noise;
-  }
-  cv::Mat grey;
-  lit.convertTo(grey, CV_8U);  // rounds and saturates
-  if (look.jpeg_quality > 0) {
-    std::vector<uint8_t> jpeg;
-    cv::imencode(".jpg", grey, jpeg, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});
-    grey = cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE);
-  }
-  return grey;
-}
-
-}  // namespace
 
 cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
                           const CornerScene& scene) {
@@ -289,7 +250,13 @@ cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
     for (int s = 0; s < 16; ++s) sum += Shade(cast(sample_rays[16 * i + s]), scene);
     value.at<float>(boundary[i]) = static_cast<float>(sum / 16);
   }
-  if (scene.realistic) return Photograph(value, *scene.realistic, scene.seed);
+  if (scene.realistic) {
+    const RealisticLook& l = *scene.realistic;
+    return Photograph(value, PhotoEffects{l.vignetting, l.hotspot_px, l.hotspot_radius_px,
+                                          l.hotspot_gain, l.blur_sigma_px, l.noise_sigma,
+                                          l.jpeg_quality},
+                      scene.seed);
+  }
   if (scene.noise_sigma > 0) {
     cv::Mat noise(h, w, CV_32F);
     cv::RNG rng(scene.seed);

@@ -6,6 +6,7 @@
 #include <limits>
 #include <opencv2/core.hpp>
 
+#include "camera/render/board_renderer.h"
 #include "camera/render/reference_camera.h"
 #include "service/geometry/floor_calibration.h"
 
@@ -13,27 +14,6 @@ namespace monocle {
 namespace {
 
 constexpr double kWhite = 225, kBlack = 25, kFloor = 120, kWall = 165;
-
-// Integral of the unit square wave g(x) = +1 on [0, s), -1 on [s, 2s), period 2s.
-double TriangleWave(double x, double s) {
-  const double period = 2 * s;
-  double m = std::fmod(x, period);
-  if (m < 0) m += period;
-  return m < s ? m : period - m;
-}
-
-// Mean of the square wave over [x - w, x + w].
-double FilteredSquareWave(double x, double w, double s) {
-  if (w < 1e-12) return TriangleWave(x + 1e-12, s) > TriangleWave(x, s) ? 1.0 : -1.0;
-  return (TriangleWave(x + w, s) - TriangleWave(x - w, s)) / (2 * w);
-}
-
-// Fraction of [x - w, x + w] inside [lo, hi].
-double Coverage(double x, double w, double lo, double hi) {
-  if (w < 1e-12) return (x >= lo && x < hi) ? 1.0 : 0.0;
-  const double overlap = std::min(x + w, hi) - std::max(x - w, lo);
-  return std::clamp(overlap / (2 * w), 0.0, 1.0);
-}
 
 // Distance along the ray to the first box face it hits, or infinity; `shade` is the face's
 // grey level.
@@ -133,11 +113,7 @@ cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose,
     cv::RNG rng(scene.seed);
     rng.fill(noise, cv::RNG::NORMAL, 0.0, scene.noise_sigma);
   }
-  // Checker area: squares from -s to cols*s along x_p; a white margin of one square.
-  const double in_lo_x = -s, in_hi_x = scene.board_cols * s;
-  const double in_lo_y = -s, in_hi_y = scene.board_rows * s;
-  const double out_lo_x = in_lo_x - s, out_hi_x = in_hi_x + s;
-  const double out_lo_y = in_lo_y - s, out_hi_y = in_hi_y + s;
+  const CheckerPattern pattern{scene.board_cols, scene.board_rows, s, kWhite, kBlack};
   for (int v = 0; v < h; ++v) {
     const auto* bx = board_x.ptr<double>(v);
     const auto* by = board_y.ptr<double>(v);
@@ -162,14 +138,7 @@ cv::Mat RenderFloorScene(const CameraIntrinsics& k, const FloorPose& pose,
         };
         const double wx = 0.5 * (std::abs(diff(board_x, 1, 0)) + std::abs(diff(board_x, 0, 1)));
         const double wy = 0.5 * (std::abs(diff(board_y, 1, 0)) + std::abs(diff(board_y, 0, 1)));
-        const double x = bx[u], y = by[u];
-        const double checker = FilteredSquareWave(x, wx, s) * FilteredSquareWave(y, wy, s);
-        const double checker_value = 0.5 * (kWhite + kBlack) + 0.5 * (kWhite - kBlack) * checker;
-        const double inner = Coverage(x, wx, in_lo_x, in_hi_x) * Coverage(y, wy, in_lo_y, in_hi_y);
-        const double outer =
-            Coverage(x, wx, out_lo_x, out_hi_x) * Coverage(y, wy, out_lo_y, out_hi_y);
-        const double board_value = inner * checker_value + (1 - inner) * kWhite;
-        value = outer * board_value + (1 - outer) * kFloor;
+        value = CheckerValue(pattern, bx[u], by[u], wx, wy, kFloor);
       }
       out[u] = cv::saturate_cast<uint8_t>(value + noise_row[u]);
     }

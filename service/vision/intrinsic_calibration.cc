@@ -1,0 +1,415 @@
+#include "service/vision/intrinsic_calibration.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+namespace monocle {
+namespace {
+
+// What the views must show before the intrinsics can be trusted.
+constexpr size_t kRecommendedViews = 10;
+constexpr double kMinCoverage = 0.3;        // fraction of the image inside some board
+constexpr double kMinUsefulTiltDeg = 15.0;  // the largest tilt among the views
+constexpr double kMaxRelativeFocalSigma = 0.01;
+constexpr double kMaxPrincipalPointSigmaFraction = 0.01;  // of the image size
+
+struct Correspondences {
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+  std::vector<size_t> view_index;  // into the caller's views
+};
+
+// `rejected[v]` lists the corner indices of view v left out (blunders), may be empty.
+Correspondences Collect(const std::vector<IntrinsicView>& views, const std::vector<bool>& use,
+                        const std::vector<std::vector<int>>& rejected) {
+  Correspondences c;
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (!use[v]) continue;
+    const auto& b = views[v].board;
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    for (int j = 0; j < b.rows; ++j) {
+      for (int i = 0; i < b.cols; ++i) {
+        if (!rejected.empty() && std::find(rejected[v].begin(), rejected[v].end(),
+                                           j * b.cols + i) != rejected[v].end())
+          continue;
+        const Eigen::Vector2d p = b.BoardPoint(i, j);
+        obj.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.f);
+        const auto& px = b.Pixel(i, j);
+        img.emplace_back(static_cast<float>(px.x()), static_cast<float>(px.y()));
+      }
+    }
+    c.object.push_back(std::move(obj));
+    c.image.push_back(std::move(img));
+    c.view_index.push_back(v);
+  }
+  return c;
+}
+
+int CalibrationFlags(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kK1K2:
+      return cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+    case DistortionModel::kK1K2P1P2:
+      return cv::CALIB_FIX_K3;
+    default:
+      return 0;
+  }
+}
+
+// Indices (camera_model.h's order) of the parameters a model estimates.
+std::vector<int> FreeParameters(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kK1K2:
+      return {0, 1, 2, 3, 4, 5};
+    case DistortionModel::kK1K2P1P2:
+      return {0, 1, 2, 3, 4, 5, 6, 7};
+    default:
+      return {0, 1, 2, 3, 4, 5, 6, 7, 8};
+  }
+}
+
+struct Fit {
+  DistortionModel model;
+  CameraIntrinsics intrinsics;
+  std::vector<cv::Mat> rvecs, tvecs;
+  double rss = 0;  // sum of squared residual coordinates, px^2
+  int residuals = 0;
+  double bic = 0;
+  IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
+  double corner_sigma_px = 0;
+  std::vector<std::vector<Eigen::Vector2d>> residuals_px;  // per used view
+};
+
+CameraIntrinsics ToIntrinsics(const cv::Mat& camera_matrix, const cv::Mat& dist,
+                              const cv::Size& size) {
+  CameraIntrinsics k;
+  k.width_px = size.width;
+  k.height_px = size.height;
+  k.fx = camera_matrix.at<double>(0, 0);
+  k.fy = camera_matrix.at<double>(1, 1);
+  k.cx = camera_matrix.at<double>(0, 2);
+  k.cy = camera_matrix.at<double>(1, 2);
+  for (int i = 0; i < 5; ++i) k.distortion[i] = dist.at<double>(i);
+  return k;
+}
+
+// Residuals and the Gauss-Newton covariance of the intrinsics with every view's pose
+// marginalised out (Schur complement of the normal equations' arrow structure), scaled by
+// the residual variance sum r^2 / (m - n).
+void Evaluate(const Correspondences& c, Fit* fit) {
+  const std::vector<int> free = FreeParameters(fit->model);
+  const int nk = static_cast<int>(free.size());
+  const cv::Matx33d camera_matrix(fit->intrinsics.fx, 0, fit->intrinsics.cx, 0,
+                                  fit->intrinsics.fy, fit->intrinsics.cy, 0, 0, 1);
+  cv::Mat dist(1, 5, CV_64F);
+  for (int i = 0; i < 5; ++i) dist.at<double>(i) = fit->intrinsics.distortion[i];
+  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nk, nk);
+  fit->rss = 0;
+  fit->residuals = 0;
+  fit->residuals_px.clear();
+  for (size_t v = 0; v < c.object.size(); ++v) {
+    std::vector<cv::Point2d> projected;
+    cv::Mat jac;  // 2N x 15: rvec(3) tvec(3) fx fy cx cy k1 k2 p1 p2 k3
+    const std::vector<cv::Point3d> object(c.object[v].begin(), c.object[v].end());
+    cv::projectPoints(object, fit->rvecs[v], fit->tvecs[v], camera_matrix, dist, projected, jac);
+    const int n = static_cast<int>(projected.size());
+    Eigen::MatrixXd je(2 * n, 6), jk(2 * n, nk);
+    std::vector<Eigen::Vector2d> res(n);
+    for (int i = 0; i < n; ++i) {
+      res[i] = Eigen::Vector2d(projected[i].x - c.image[v][i].x, projected[i].y - c.image[v][i].y);
+      fit->rss += res[i].squaredNorm();
+      for (int row = 0; row < 2; ++row) {
+        const double* j = jac.ptr<double>(2 * i + row);
+        for (int a = 0; a < 6; ++a) je(2 * i + row, a) = j[a];
+        for (int a = 0; a < nk; ++a) jk(2 * i + row, a) = j[6 + free[a]];
+      }
+    }
+    fit->residuals += 2 * n;
+    fit->residuals_px.push_back(std::move(res));
+    const Eigen::Matrix<double, 6, 6> cee = je.transpose() * je;
+    const Eigen::MatrixXd bke = jk.transpose() * je;
+    schur += jk.transpose() * jk - bke * cee.ldlt().solve(bke.transpose());
+  }
+  const int params = nk + 6 * static_cast<int>(c.object.size());
+  const int dof = std::max(fit->residuals - params, 1);
+  const double variance = fit->rss / dof;
+  fit->corner_sigma_px = std::sqrt(variance);
+  // BIC with the noise variance profiled out: m ln(RSS/m) + n ln m.
+  fit->bic = fit->residuals * std::log(std::max(fit->rss, 1e-300) / fit->residuals) +
+             params * std::log(static_cast<double>(fit->residuals));
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(schur);
+  fit->covariance.setZero();
+  if (!lu.isInvertible()) {
+    // A direction the views do not constrain at all: report it as unknown, not as exact.
+    for (int a = 0; a < nk; ++a)
+      fit->covariance(free[a], free[a]) = std::numeric_limits<double>::infinity();
+    return;
+  }
+  const Eigen::MatrixXd cov = variance * lu.inverse();
+  for (int a = 0; a < nk; ++a)
+    for (int b = 0; b < nk; ++b) fit->covariance(free[a], free[b]) = cov(a, b);
+}
+
+Result<Fit> FitModel(const Correspondences& c, const cv::Size& size, DistortionModel model) {
+  Fit fit;
+  fit.model = model;
+  cv::Mat camera_matrix, dist;
+  try {
+    cv::calibrateCamera(c.object, c.image, size, camera_matrix, dist, fit.rvecs, fit.tvecs,
+                        CalibrationFlags(model),
+                        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100,
+                                         std::numeric_limits<double>::epsilon()));
+  } catch (const cv::Exception& e) {
+    return MakeError(ErrorCode::kDegenerate,
+                     std::string("the views do not determine the camera (OpenCV: ") + e.err + ")");
+  }
+  fit.intrinsics = ToIntrinsics(camera_matrix, dist, size);
+  Evaluate(c, &fit);
+  return fit;
+}
+
+std::string Fixed(double value, int digits) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(digits);
+  os << value;
+  return os.str();
+}
+
+std::string ModelReason(const std::vector<Fit>& fits, size_t chosen, bool automatic) {
+  const Fit& f = fits[chosen];
+  auto rms = [](const Fit& x) { return std::sqrt(x.rss / (x.residuals / 2)); };
+  if (!automatic) return std::string(ToString(f.model)) + ", as asked";
+  std::string reason = std::string(ToString(f.model)) + ", the smallest model the data support (BIC";
+  for (size_t i = 0; i < fits.size(); ++i) {
+    reason += std::string(i ? "; " : ": ") + ToString(fits[i].model) + " RMS " +
+              Fixed(rms(fits[i]), 4) + " px";
+  }
+  reason += ")";
+  if (chosen + 1 < fits.size()) {
+    reason += "; " + std::string(ToString(fits[chosen + 1].model)) +
+              " lowers the residual too little for its extra terms";
+  }
+  return reason;
+}
+
+double TiltDeg(const cv::Mat& rvec) {
+  cv::Matx33d r;
+  cv::Rodrigues(rvec, r);
+  return std::acos(std::min(1.0, std::abs(r(2, 2)))) * 180 / std::numbers::pi;
+}
+
+// Fraction of the image covered by the boards' outlines, on a coarse raster, and which
+// image corners (the outer fifth in both directions) no detected corner reached.
+void MeasureCoverage(const std::vector<IntrinsicView>& views, const std::vector<bool>& used,
+                     const cv::Size& size, IntrinsicCalibration* out) {
+  constexpr double kScale = 1.0 / 8;
+  cv::Mat mask(cv::Size(std::max(1, static_cast<int>(size.width * kScale)),
+                        std::max(1, static_cast<int>(size.height * kScale))),
+               CV_8U, cv::Scalar(0));
+  bool corner_seen[4] = {false, false, false, false};  // top-left, top-right, bottom-l, bottom-r
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (!used[v]) continue;
+    const auto& b = views[v].board;
+    std::vector<cv::Point> hull;
+    for (const auto& [i, j] : {std::pair{0, 0}, {b.cols - 1, 0}, {b.cols - 1, b.rows - 1},
+                               {0, b.rows - 1}}) {
+      const auto& p = b.Pixel(i, j);
+      hull.emplace_back(static_cast<int>(p.x() * kScale), static_cast<int>(p.y() * kScale));
+    }
+    cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+    for (const auto& p : b.pixels) {
+      const bool left = p.x() < size.width * 0.25, right = p.x() > size.width * 0.75;
+      const bool top = p.y() < size.height * 0.25, bottom = p.y() > size.height * 0.75;
+      corner_seen[0] |= top && left;
+      corner_seen[1] |= top && right;
+      corner_seen[2] |= bottom && left;
+      corner_seen[3] |= bottom && right;
+    }
+  }
+  out->coverage = static_cast<double>(cv::countNonZero(mask)) / mask.total();
+  const char* names[4] = {"top-left", "top-right", "bottom-left", "bottom-right"};
+  for (int i = 0; i < 4; ++i)
+    if (!corner_seen[i]) out->uncovered_corners.emplace_back(names[i]);
+}
+
+void AddWarnings(size_t used_views, IntrinsicCalibration* out) {
+  const auto sigma = out->Sigma();
+  const auto& k = out->intrinsics;
+  if (used_views < kRecommendedViews) {
+    out->warnings.push_back("only " + std::to_string(used_views) +
+                            " views: use 10 or more, the board tilted in different directions");
+  }
+  if (out->coverage < kMinCoverage || !out->uncovered_corners.empty()) {
+    std::string corners;
+    for (const auto& c : out->uncovered_corners) corners += (corners.empty() ? "" : ", ") + c;
+    out->warnings.push_back(
+        "the boards cover " + Fixed(100 * out->coverage, 0) + " % of the image" +
+        (corners.empty() ? "" : " and never reach its " + corners + " corner(s)") +
+        ": the lens distortion is extrapolated there; show the board near every edge and corner");
+  }
+  if (out->max_tilt_deg < kMinUsefulTiltDeg) {
+    out->warnings.push_back(
+        "the board never tilts more than " + Fixed(out->max_tilt_deg, 0) +
+        " degrees from facing the camera: focal length and board distance cannot be told "
+        "apart; tilt it 20-45 degrees, in different directions, in several views");
+  }
+  const double rel_f = std::max(sigma[0] / k.fx, sigma[1] / k.fy);
+  const double rel_c = std::max(sigma[2] / k.width_px, sigma[3] / k.height_px);
+  if (!(rel_f <= kMaxRelativeFocalSigma) || !(rel_c <= kMaxPrincipalPointSigmaFraction)) {
+    out->warnings.push_back("the views constrain the camera poorly: 1 sigma of fx " +
+                            Fixed(100 * sigma[0] / k.fx, 2) + " %, of cx " + Fixed(sigma[2], 1) +
+                            " px, of cy " + Fixed(sigma[3], 1) +
+                            " px; measurements made with it say so in their 1 sigma");
+  }
+}
+
+// One fit over the views marked in `use`: every candidate model, the chosen one's
+// covariance, per-view residuals, coverage and warnings.
+Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& views,
+                                             const std::vector<bool>& use,
+                                             const cv::Size& image_size,
+                                             const IntrinsicCalibrationOptions& options) {
+  const std::vector<DistortionModel> candidates =
+      options.model == DistortionModel::kAuto
+          ? std::vector<DistortionModel>{DistortionModel::kK1K2, DistortionModel::kK1K2P1P2,
+                                         DistortionModel::kK1K2P1P2K3}
+          : std::vector<DistortionModel>{options.model};
+  // A corner refined onto the wrong spot (a blunder of pixels, not noise) would dominate
+  // the fit and the choice of model: one fit with the richest model finds them, as
+  // residuals beyond 5 robust sigmas (and 0.5 px); they are left out of every fit below.
+  std::vector<std::vector<int>> rejected(views.size());
+  int rejected_count = 0;
+  {
+    const Correspondences all = Collect(views, use, {});
+    auto probe = FitModel(all, image_size, candidates.back());
+    if (!probe) return probe.error();
+    std::vector<double> magnitudes;
+    for (const auto& view : probe->residuals_px)
+      for (const auto& r : view) magnitudes.push_back(r.norm());
+    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
+                     magnitudes.end());
+    // The median of |r| for 2-D Gaussian noise is 1.1774 sigma.
+    const double robust_sigma = magnitudes[magnitudes.size() / 2] / 1.1774;
+    const double limit = std::max(5 * robust_sigma, 0.5);
+    for (size_t u = 0; u < all.view_index.size(); ++u) {
+      const auto& b = views[all.view_index[u]].board;
+      for (size_t i = 0; i < probe->residuals_px[u].size(); ++i) {
+        if (probe->residuals_px[u][i].norm() > limit) rejected[all.view_index[u]].push_back(i);
+      }
+      // A view that loses more than a quarter of its corners is a bad view, not a few bad
+      // corners: keep it whole and let the outlier test name it.
+      if (rejected[all.view_index[u]].size() * 4 > b.pixels.size())
+        rejected[all.view_index[u]].clear();
+      rejected_count += rejected[all.view_index[u]].size();
+    }
+  }
+  const Correspondences c = Collect(views, use, rejected);
+  std::vector<Fit> fits;
+  for (const auto model : candidates) {
+    auto fit = FitModel(c, image_size, model);
+    if (!fit) return fit.error();
+    fits.push_back(std::move(*fit));
+  }
+  size_t chosen = 0;
+  for (size_t i = 1; i < fits.size(); ++i)
+    if (fits[i].bic < fits[chosen].bic) chosen = i;
+  const Fit& fit = fits[chosen];
+
+  IntrinsicCalibration out;
+  out.rejected_corners = rejected_count;
+  out.intrinsics = fit.intrinsics;
+  out.covariance = fit.covariance;
+  out.model = fit.model;
+  out.model_reason = ModelReason(fits, chosen, options.model == DistortionModel::kAuto);
+  for (const auto& f : fits) out.trials.push_back({f.model, std::sqrt(f.rss / (f.residuals / 2)), f.bic});
+  out.rms_px = std::sqrt(fit.rss / (fit.residuals / 2));
+  out.corner_sigma_px = fit.corner_sigma_px;
+  std::vector<double> view_rms;
+  for (size_t u = 0; u < c.view_index.size(); ++u) {
+    ViewFit v;
+    v.name = views[c.view_index[u]].name;
+    double sum = 0;
+    for (const auto& r : fit.residuals_px[u]) sum += r.squaredNorm();
+    v.rms_px = std::sqrt(sum / fit.residuals_px[u].size());
+    v.tilt_deg = TiltDeg(fit.rvecs[u]);
+    cv::Matx33d r;
+    cv::Rodrigues(fit.rvecs[u], r);
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) v.r_camera_board(a, b) = r(a, b);
+      v.t_camera_board_m[a] = fit.tvecs[u].at<double>(a);
+    }
+    v.residuals_px = fit.residuals_px[u];
+    v.rejected_corners = static_cast<int>(rejected[c.view_index[u]].size());
+    out.max_tilt_deg = std::max(out.max_tilt_deg, v.tilt_deg);
+    view_rms.push_back(v.rms_px);
+    out.views.push_back(std::move(v));
+  }
+  std::nth_element(view_rms.begin(), view_rms.begin() + view_rms.size() / 2, view_rms.end());
+  const double median = view_rms[view_rms.size() / 2];
+  for (auto& v : out.views) v.outlier = v.rms_px > options.outlier_factor * median;
+  MeasureCoverage(views, use, image_size, &out);
+  AddWarnings(c.view_index.size(), &out);
+  return out;
+}
+
+}  // namespace
+
+const char* ToString(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kAuto:
+      return "auto";
+    case DistortionModel::kK1K2:
+      return "k1k2";
+    case DistortionModel::kK1K2P1P2:
+      return "k1k2p1p2";
+    case DistortionModel::kK1K2P1P2K3:
+      return "k1k2p1p2k3";
+  }
+  return "?";
+}
+
+Result<DistortionModel> ParseDistortionModel(const std::string& text) {
+  for (const auto m : {DistortionModel::kAuto, DistortionModel::kK1K2, DistortionModel::kK1K2P1P2,
+                       DistortionModel::kK1K2P1P2K3}) {
+    if (text == ToString(m)) return m;
+  }
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "--model '" + text + "' is not one of auto, k1k2, k1k2p1p2, k1k2p1p2k3");
+}
+
+Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<IntrinsicView>& views,
+                                                 const cv::Size& image_size,
+                                                 const IntrinsicCalibrationOptions& options) {
+  if (views.size() < 3) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "at least 3 board views are needed, " + std::to_string(views.size()) +
+                         " given");
+  }
+  std::vector<bool> use(views.size(), true);
+  auto first = CalibrateSubset(views, use, image_size, options);
+  if (!first || !options.drop_outliers) return first;
+  size_t kept = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    use[v] = !first->views[v].outlier;
+    kept += use[v];
+  }
+  if (kept == views.size() || kept < 3) return first;
+  auto second = CalibrateSubset(views, use, image_size, options);
+  if (!second) return second;
+  // Report the dropped views too, with their residuals from the first fit.
+  for (const auto& v : first->views) {
+    if (!v.outlier) continue;
+    second->views.push_back(v);
+    second->views.back().dropped = true;
+  }
+  return second;
+}
+
+}  // namespace monocle
