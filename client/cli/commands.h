@@ -23,6 +23,7 @@ int CornerCommand(const std::vector<std::string>& args);
 int CameraCommand(const std::string& command, const std::vector<std::string>& args);
 int IntrinsicsCommand(const std::vector<std::string>& args);
 int RenderCommand(const std::vector<std::string>& args);
+int RenderBoards(const std::vector<std::string>& args);  // render boards
 // The running service's cameras (over DDS).
 int StatusCommand(const std::vector<std::string>& args);
 

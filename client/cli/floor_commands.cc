@@ -185,7 +185,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   const auto image = ReadGreyImage(args->positionals()[0]);
   if (!image) return Fail(image.error(), kExitFailure);
-  const auto calibrated = CalibrateFloorFromImage(*image, calibration->intrinsics, *spec, method);
+  const auto calibrated = CalibrateFloorFromImage(*image, calibration->intrinsics, *spec, method,
+                                                  calibration->intrinsics_covariance);
   if (!calibrated) return Fail(calibrated.error(), kExitFailure);
   const FloorCalibration* result = &calibrated->calibration;
   const size_t corners = calibrated->corners;

@@ -1,28 +1,129 @@
-// monocle intrinsics calibrate: OpenCV's calibrateCamera over several board images.
+// monocle intrinsics calibrate: the camera's intrinsics from several board images, each
+// parameter with its 1 sigma, the views judged, and pictures of what was seen.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/vision/chessboard.h"
+#include "service/vision/intrinsic_calibration.h"
 
 namespace monocle::cli {
 namespace {
 
 constexpr const char* kHelp =
     R"(Usage: monocle intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
+                                     [--model auto|k1k2|k1k2p1p2|k1k2p1p2k3] [--drop-outliers]
+                                     [--overlay DIR] [--json]
 
 Calibrates focal lengths (fx, fy, pixels), principal point (cx, cy, pixels) and lens
-distortion (k1 k2 p1 p2, OpenCV's model) from several images of a chessboard seen from
-different angles (at least 3; 10 or more tilted views are better). Writes CAL.pbtxt
-atomically; an existing floor or corner section in CAL.pbtxt is kept.
+distortion (OpenCV's model) from images of a chessboard seen from different places and
+angles, and reports how sure it is: each parameter with its 1 sigma (the full covariance
+goes into CAL.pbtxt, and floor calibrations and measurements made with it include it).
+
+Good views: 10-20 images, the board near every corner and edge of the image and in its
+middle, tilted 20-45 degrees in different directions, sharp and evenly lit.
 
   --board COLSxROWS  inner corners of the board, e.g. 9x6 (required)
   --square METRES    side of one square, metres (required)
-  --out CAL.pbtxt    calibration file to write (required)
+  --out CAL.pbtxt    calibration file to write atomically (required). Its corner section
+                     is kept; a floor section is removed (it was fitted with the old
+                     intrinsics: calibrate the floor again)
+  --model M          distortion model: k1k2 (radial), k1k2p1p2 (+ tangential),
+                     k1k2p1p2k3 (+ a third radial term, wide-angle lenses), or auto
+                     (default): the smallest model the data support, by the Bayesian
+                     information criterion; the choice and its reason are printed
+  --drop-outliers    refit without the views whose RMS exceeds 3x the median view's
+                     (they are always named)
+  --overlay DIR      write DIR/<image>.png per view (detected corners, and each corner's
+                     residual magnified 100x as a red line) and DIR/coverage.png (where
+                     in the image corners were seen)
+  --json             print one JSON object (idl/cli_output.proto IntrinsicsOutput)
+
+Warnings (on stderr, and in the JSON) say when the views do not constrain the model:
+too few views, corners covering too little of the image, too little tilt, or a 1 sigma
+of fx above 1 % or of cx, cy above 1 % of the image size.
 )";
+
+constexpr double kResidualMagnification = 100;
+
+// "\rdetecting boards 12/55" on a terminal, nothing otherwise.
+class Progress {
+ public:
+  Progress() : terminal_(isatty(STDERR_FILENO) != 0) {}
+  void Show(const std::string& what, size_t done, size_t total) const {
+    if (terminal_) std::cerr << "\r" << what << " " << done << "/" << total << std::flush;
+  }
+  void Done() const {
+    if (terminal_) std::cerr << "\r\033[K" << std::flush;
+  }
+
+ private:
+  bool terminal_;
+};
+
+cv::Mat ToColour(const cv::Mat& grey) {
+  cv::Mat colour;
+  cv::cvtColor(grey, colour, cv::COLOR_GRAY2BGR);
+  return colour;
+}
+
+cv::Point2d P(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
+
+void DrawView(cv::Mat& image, const BoardObservation& board, const ViewFit& fit) {
+  // Residuals are listed for the corners used, in order; rejected corners are skipped.
+  size_t next = 0;
+  for (size_t i = 0; i < board.pixels.size(); ++i) {
+    const auto& px = board.pixels[i];
+    const bool used = next < fit.residuals_px.size();
+    cv::circle(image, P(px), 3, cv::Scalar(0, 200, 0), 1, cv::LINE_AA);
+    if (used) {
+      cv::line(image, P(px), P(px + kResidualMagnification * fit.residuals_px[next]),
+               cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+      ++next;
+    }
+  }
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(3) << fit.name << "  RMS " << fit.rms_px
+       << " px  tilt " << std::setprecision(0) << fit.tilt_deg << " deg"
+       << (fit.outlier ? "  OUTLIER" : "") << "   red: residual x100";
+  cv::putText(image, text.str(), {10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 3,
+              cv::LINE_AA);
+  cv::putText(image, text.str(), {10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.6,
+              fit.outlier ? cv::Scalar(0, 0, 255) : cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+}
+
+cv::Mat CoveragePicture(const cv::Size& size, const std::vector<IntrinsicView>& views,
+                        const IntrinsicCalibration& cal) {
+  cv::Mat picture(size, CV_8UC3, cv::Scalar(40, 40, 40));
+  for (size_t v = 0; v < views.size(); ++v) {
+    const auto& b = views[v].board;
+    const cv::Scalar colour(80 + (v * 67) % 176, 80 + (v * 131) % 176, 80 + (v * 197) % 176);
+    std::vector<cv::Point> outline;
+    for (const auto& [i, j] :
+         {std::pair{0, 0}, {b.cols - 1, 0}, {b.cols - 1, b.rows - 1}, {0, b.rows - 1}})
+      outline.emplace_back(P(b.Pixel(i, j)));
+    cv::polylines(picture, outline, true, colour, 1, cv::LINE_AA);
+    for (const auto& px : b.pixels) cv::circle(picture, P(px), 2, colour, cv::FILLED);
+  }
+  std::ostringstream text;
+  text << "corners of " << views.size() << " views: boards cover " << std::fixed
+       << std::setprecision(0) << 100 * cal.coverage << " % of the image";
+  cv::putText(picture, text.str(), {10, size.height - 12}, cv::FONT_HERSHEY_SIMPLEX, 0.6,
+              cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  return picture;
+}
+
+std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
 }  // namespace
 
@@ -31,69 +132,175 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
     std::cout << kHelp;
     return WantsHelp(argv) ? kExitOk : kExitUsage;
   }
-  auto args = Args::Parse({argv.begin() + 1, argv.end()}, {{"--board", "--square", "--out"}, {}});
+  auto args = Args::Parse({argv.begin() + 1, argv.end()},
+                          {{"--board", "--square", "--out", "--model", "--overlay"},
+                           {"--json", "--drop-outliers"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto out_path = args->Require("--out");
   if (!out_path) return Fail(out_path.error(), kExitUsage);
   const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
-  if (args->positionals().size() < 3)
-    return Fail("give at least 3 board images (see --help)", kExitUsage);
+  IntrinsicCalibrationOptions options;
+  if (const auto m = args->Get("--model")) {
+    const auto model = ParseDistortionModel(*m);
+    if (!model) return Fail(model.error(), kExitUsage);
+    options.model = *model;
+  }
+  options.drop_outliers = args->Has("--drop-outliers");
+  const bool json = args->Has("--json");
+  const auto& paths = args->positionals();
+  if (paths.size() < 3) return Fail("give at least 3 board images (see --help)", kExitUsage);
+  const auto overlay_dir = args->Get("--overlay");
+  if (overlay_dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(*overlay_dir, ec);
+    if (ec) return Fail("cannot create --overlay folder '" + *overlay_dir + "': " + ec.message(),
+                        kExitFailure);
+  }
 
-  std::vector<std::vector<cv::Point3f>> object_points;
-  std::vector<std::vector<cv::Point2f>> image_points;
+  proto::IntrinsicsOutput out;
+  std::vector<IntrinsicView> views;
+  std::vector<std::string> view_paths;
   cv::Size size;
-  for (const auto& path : args->positionals()) {
+  const Progress progress;
+  for (size_t n = 0; n < paths.size(); ++n) {
+    progress.Show("detecting boards", n, paths.size());
+    const auto& path = paths[n];
     const auto image = ReadGreyImage(path);
     if (!image) return Fail(image.error(), kExitFailure);
     if (size.area() == 0) size = image->size();
     if (image->size() != size)
       return Fail("image '" + path + "' differs in size from the first image", kExitFailure);
-    const auto board = DetectChessboard(*image, *spec);
+    auto board = DetectChessboard(*image, *spec);
     if (!board) {
+      progress.Done();
       std::cerr << "monocle: warning: " << path << ": " << board.error().message << "; skipped\n";
+      auto* v = out.add_views();
+      v->set_image(path);
+      v->set_error(board.error().message);
       continue;
     }
-    std::vector<cv::Point3f> obj;
-    std::vector<cv::Point2f> img;
-    for (int j = 0; j < board->rows; ++j) {
-      for (int i = 0; i < board->cols; ++i) {
-        const auto p = board->BoardPoint(i, j);
-        obj.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
-        const auto& px = board->Pixel(i, j);
-        img.emplace_back(static_cast<float>(px.x()), static_cast<float>(px.y()));
-      }
-    }
-    object_points.push_back(std::move(obj));
-    image_points.push_back(std::move(img));
+    views.push_back({path, std::move(*board)});
   }
-  if (image_points.size() < 3) {
-    return Fail("the board was found in only " + std::to_string(image_points.size()) +
+  progress.Show("calibrating", views.size(), paths.size());
+  if (views.size() < 3) {
+    progress.Done();
+    return Fail("the board was found in only " + std::to_string(views.size()) +
                     " images; at least 3 are needed",
                 kExitFailure);
   }
-  cv::Mat camera_matrix, dist;
-  std::vector<cv::Mat> rvecs, tvecs;
-  const double rms = cv::calibrateCamera(object_points, image_points, size, camera_matrix, dist,
-                                         rvecs, tvecs, cv::CALIB_FIX_K3);
-  CameraCalibration cal;
-  if (auto existing = LoadCalibrationFile(*out_path); existing) cal = *existing;
-  auto& k = cal.intrinsics;
-  k.width_px = size.width;
-  k.height_px = size.height;
-  k.fx = camera_matrix.at<double>(0, 0);
-  k.fy = camera_matrix.at<double>(1, 1);
-  k.cx = camera_matrix.at<double>(0, 2);
-  k.cy = camera_matrix.at<double>(1, 2);
-  k.distortion = {};
-  for (int i = 0; i < 4; ++i) k.distortion[i] = dist.at<double>(i);
-  cal.intrinsics_rms_px = rms;
-  const auto saved = SaveCalibrationFileAtomically(*out_path, cal);
-  if (!saved) return Fail(saved.error(), kExitFailure);
-  std::cout << std::setprecision(8) << "images  " << image_points.size() << "\nfx fy   " << k.fx
-            << " " << k.fy << " px\ncx cy   " << k.cx << " " << k.cy << " px\ndist    "
-            << k.distortion[0] << " " << k.distortion[1] << " " << k.distortion[2] << " "
-            << k.distortion[3] << "\nrms     " << rms << " px\nwritten to " << *out_path << "\n";
+  const auto cal = CalibrateIntrinsics(views, size, options);
+  progress.Done();
+  if (!cal) return Fail(cal.error(), kExitFailure);
+
+  CameraCalibration file;
+  bool floor_removed = false;
+  if (auto existing = LoadCalibrationFile(*out_path); existing) {
+    file = *existing;
+    floor_removed = file.floor.has_value();
+    file.floor.reset();
+  }
+  file.intrinsics = cal->intrinsics;
+  file.intrinsics_rms_px = cal->rms_px;
+  file.intrinsics_covariance = cal->covariance;
+  file.distortion_model = ToString(cal->model);
+  if (auto saved = SaveCalibrationFileAtomically(*out_path, file); !saved)
+    return Fail(saved.error(), kExitFailure);
+
+  if (overlay_dir) {
+    for (const auto& fit : cal->views) {
+      const auto it = std::find_if(views.begin(), views.end(),
+                                   [&](const IntrinsicView& v) { return v.name == fit.name; });
+      const auto image = ReadGreyImage(fit.name);
+      if (it == views.end() || !image) continue;
+      cv::Mat colour = ToColour(*image);
+      DrawView(colour, it->board, fit);
+      if (auto w = WriteImage(*overlay_dir + "/" + Stem(fit.name) + ".png", colour); !w)
+        return Fail(w.error(), kExitFailure);
+    }
+    if (auto w = WriteImage(*overlay_dir + "/coverage.png", CoveragePicture(size, views, *cal)); !w)
+      return Fail(w.error(), kExitFailure);
+  }
+
+  const auto& k = cal->intrinsics;
+  const auto sigma = cal->Sigma();
+  out.set_width(k.width_px);
+  out.set_height(k.height_px);
+  out.set_fx(k.fx);
+  out.set_fy(k.fy);
+  out.set_cx(k.cx);
+  out.set_cy(k.cy);
+  auto* s = out.mutable_sigma();
+  s->set_fx(sigma[0]);
+  s->set_fy(sigma[1]);
+  s->set_cx(sigma[2]);
+  s->set_cy(sigma[3]);
+  for (int i = 0; i < 5; ++i) {
+    out.add_distortion(k.distortion[i]);
+    s->add_distortion(sigma[4 + i]);
+  }
+  out.set_model(ToString(cal->model));
+  out.set_model_reason(cal->model_reason);
+  out.set_rms_px(cal->rms_px);
+  out.set_corner_sigma_px(cal->corner_sigma_px);
+  out.set_coverage(cal->coverage);
+  out.set_max_tilt_deg(cal->max_tilt_deg);
+  for (const auto& fit : cal->views) {
+    auto* v = out.add_views();
+    v->set_image(fit.name);
+    v->set_rms_px(fit.rms_px);
+    v->set_tilt_deg(fit.tilt_deg);
+    v->set_outlier(fit.outlier);
+    v->set_dropped(fit.dropped);
+    v->set_rejected_corners(fit.rejected_corners);
+  }
+  for (const auto& w : cal->warnings) out.add_warnings(w);
+  out.set_written(*out_path);
+  out.set_floor_removed(floor_removed);
+
+  for (const auto& w : cal->warnings) std::cerr << "monocle: warning: " << w << "\n";
+  for (const auto& fit : cal->views) {
+    if (fit.outlier && !fit.dropped) {
+      std::cerr << "monocle: warning: view " << fit.name << " is an outlier (RMS " << fit.rms_px
+                << " px): retake it, or use --drop-outliers\n";
+    }
+  }
+  if (floor_removed) {
+    std::cerr << "monocle: warning: the floor section of " << *out_path
+              << " was made with the old intrinsics and is removed: run monocle floor "
+                 "calibrate again\n";
+  }
+  if (json) {
+    std::cout << ToJson(out) << "\n";
+    return kExitOk;
+  }
+  const char* names[] = {"k1", "k2", "p1", "p2", "k3"};
+  std::cout << std::fixed << std::setprecision(3) << "images      " << views.size() << " of "
+            << paths.size() << " with a board\n"
+            << "fx fy       " << k.fx << " ± " << sigma[0] << "   " << k.fy << " ± " << sigma[1]
+            << " px\n"
+            << "cx cy       " << k.cx << " ± " << sigma[2] << "   " << k.cy << " ± " << sigma[3]
+            << " px\n"
+            << std::setprecision(5);
+  for (int i = 0; i < 5; ++i)
+    std::cout << std::setw(12) << std::left << names[i] << std::right << k.distortion[i] << " ± "
+              << sigma[4 + i] << "\n";
+  std::cout << "model       " << cal->model_reason << "\n"
+            << std::setprecision(4) << "rms         " << cal->rms_px
+            << " px (one corner coordinate: 1σ " << cal->corner_sigma_px << " px)\n"
+            << std::setprecision(0) << "coverage    " << 100 * cal->coverage
+            << " % of the image; largest tilt " << cal->max_tilt_deg << " deg\n";
+  std::cout << "views       RMS px   tilt deg\n" << std::setprecision(3);
+  for (const auto& fit : cal->views) {
+    std::cout << "  " << fit.name << "  " << fit.rms_px << "   " << std::setprecision(0)
+              << fit.tilt_deg << std::setprecision(3)
+              << (fit.dropped ? "  outlier, dropped" : fit.outlier ? "  OUTLIER" : "")
+              << (fit.rejected_corners ? "  (" + std::to_string(fit.rejected_corners) +
+                                             " corners left out)"
+                                       : "")
+              << "\n";
+  }
+  std::cout << "written to  " << *out_path << "\n";
   return kExitOk;
 }
 

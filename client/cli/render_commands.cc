@@ -99,8 +99,10 @@ int RenderCorner(const std::vector<std::string>& argv) {
 
 int RenderCommand(const std::vector<std::string>& argv) {
   if (!argv.empty() && argv[0] == "corner") return RenderCorner({argv.begin() + 1, argv.end()});
+  if (!argv.empty() && argv[0] == "boards") return RenderBoards({argv.begin() + 1, argv.end()});
   if (argv.empty() || argv[0] != "floor" || WantsHelp(argv)) {
-    std::cout << "Usage: monocle render floor|corner ...\n\n" << kHelp << "\n" << kCornerHelp;
+    std::cout << "Usage: monocle render floor|corner|boards ...  (monocle render boards --help)\n\n"
+              << kHelp << "\n" << kCornerHelp;
     return WantsHelp(argv) ? kExitOk : kExitUsage;
   }
   auto args =

@@ -66,6 +66,29 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
     k.distortion[i] = in.distortion(i);
   }
   out.intrinsics_rms_px = in.has_rms_px() ? in.rms_px() : 0.0;
+  if (in.covariance_size() != 0) {
+    constexpr int n = kNumIntrinsicParams;
+    if (in.covariance_size() != n * n) {
+      return Invalid(source, "intrinsics.covariance",
+                     "must have 81 values (9x9 of fx fy cx cy k1 k2 p1 p2 k3, row-major), not " +
+                         std::to_string(in.covariance_size()));
+    }
+    for (int i = 0; i < n * n; ++i) {
+      if (!Finite(in.covariance(i)))
+        return Invalid(source, "intrinsics.covariance", "has a value that is not finite");
+      out.intrinsics_covariance(i / n, i % n) = in.covariance(i);
+    }
+    if (!out.intrinsics_covariance.isApprox(out.intrinsics_covariance.transpose(), 1e-6) ||
+        (out.intrinsics_covariance.diagonal().array() < 0).any()) {
+      return Invalid(source, "intrinsics.covariance",
+                     "is not a covariance (not symmetric, or a negative variance)");
+    }
+  }
+  if (in.has_model()) {
+    if (in.model() != "k1k2" && in.model() != "k1k2p1p2" && in.model() != "k1k2p1p2k3")
+      return Invalid(source, "intrinsics.model", "must be k1k2, k1k2p1p2 or k1k2p1p2k3");
+    out.distortion_model = in.model();
+  }
 
   if (msg.has_floor()) {
     const auto& f = msg.floor();
@@ -97,6 +120,20 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
     for (int i = 0; i < 4; ++i) {
       if (fc.covariance(i, i) < 0)
         return Invalid(source, "floor.covariance", "has a negative variance on its diagonal");
+    }
+    if (f.intrinsics_cross_covariance_size() != 0) {
+      constexpr int n = kNumIntrinsicParams;
+      if (f.intrinsics_cross_covariance_size() != 4 * n) {
+        return Invalid(source, "floor.intrinsics_cross_covariance",
+                       "must have 36 values (4x9, row-major), not " +
+                           std::to_string(f.intrinsics_cross_covariance_size()));
+      }
+      for (int i = 0; i < 4 * n; ++i) {
+        if (!Finite(f.intrinsics_cross_covariance(i)))
+          return Invalid(source, "floor.intrinsics_cross_covariance",
+                         "has a value that is not finite");
+        fc.intrinsics_cross_covariance(i / n, i % n) = f.intrinsics_cross_covariance(i);
+      }
     }
     fc.rms_px = f.has_rms_px() ? f.rms_px() : 0.0;
     if (f.has_method() && f.method() != "full" && f.method() != "paper") {
@@ -141,6 +178,12 @@ std::string FormatCalibration(const CameraCalibration& c) {
   nd = nd == 0 ? 0 : (nd <= 4 ? 4 : (nd == 5 ? 5 : 8));
   for (int i = 0; i < nd; ++i) in->add_distortion(k.distortion[i]);
   if (c.intrinsics_rms_px > 0) in->set_rms_px(c.intrinsics_rms_px);
+  if (!c.intrinsics_covariance.isZero()) {
+    for (int i = 0; i < kNumIntrinsicParams * kNumIntrinsicParams; ++i)
+      in->add_covariance(
+          c.intrinsics_covariance(i / kNumIntrinsicParams, i % kNumIntrinsicParams));
+  }
+  if (!c.distortion_model.empty()) in->set_model(c.distortion_model);
   if (c.floor) {
     auto* f = msg.mutable_floor();
     f->set_height(c.floor->pose.height_m);
@@ -149,6 +192,11 @@ std::string FormatCalibration(const CameraCalibration& c) {
     f->set_roll(c.floor->pose.roll_rad);
     if (!c.floor->covariance.isZero()) {
       for (int i = 0; i < 16; ++i) f->add_covariance(c.floor->covariance(i / 4, i % 4));
+    }
+    if (!c.floor->intrinsics_cross_covariance.isZero()) {
+      for (int i = 0; i < 4 * kNumIntrinsicParams; ++i)
+        f->add_intrinsics_cross_covariance(c.floor->intrinsics_cross_covariance(
+            i / kNumIntrinsicParams, i % kNumIntrinsicParams));
     }
     if (c.floor->rms_px > 0) f->set_rms_px(c.floor->rms_px);
     f->set_method(ToString(c.floor->method));

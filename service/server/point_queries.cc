@@ -46,8 +46,9 @@ RequestAnswer AnswerPointRequest(const std::map<std::string, CameraCalibration>&
   }
   const auto& k = it->second.intrinsics;
   const FloorCalibration& floor = *it->second.floor;
-  const MeasurementNoise noise{floor.covariance,
-                               pixel_sigma_px > 0 ? pixel_sigma_px : kDefaultPixelSigmaPx};
+  const MeasurementNoise noise =
+      MeasurementNoiseOf(floor, it->second.intrinsics_covariance,
+                         pixel_sigma_px > 0 ? pixel_sigma_px : kDefaultPixelSigmaPx);
   out.points.reserve(points.size());
   for (const auto& p : points) {
     PointAnswer a;

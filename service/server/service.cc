@@ -408,7 +408,8 @@ void Service::ServeFloorCalibrationRequests() {
       } else {
         CameraCalibration cal = w->calibration();
         const auto result = CalibrateFloorFromImage(frame->grey, cal.intrinsics, *spec,
-                                                    FloorCalibrationMethod::kFull);
+                                                    FloorCalibrationMethod::kFull,
+                                                    cal.intrinsics_covariance);
         if (!result) {
           fail(2, "frame " + std::to_string(frame->sequence) + ": " + result.error().message);
         } else {

@@ -8,7 +8,8 @@ namespace monocle {
 Result<FloorCalibrationFromImage> CalibrateFloorFromImage(const cv::Mat& grey,
                                                           const CameraIntrinsics& k,
                                                           const BoardSpec& spec,
-                                                          FloorCalibrationMethod method) {
+                                                          FloorCalibrationMethod method,
+                                                          const IntrinsicsCovariance& k_covariance) {
   if (grey.cols != k.width_px || grey.rows != k.height_px) {
     std::ostringstream os;
     os << "image is " << grey.cols << "x" << grey.rows << " but the calibration is for "
@@ -17,7 +18,7 @@ Result<FloorCalibrationFromImage> CalibrateFloorFromImage(const cv::Mat& grey,
   }
   const auto board = DetectChessboard(grey, spec);
   if (!board) return board.error();
-  auto result = CalibrateFloor(k, *board, method);
+  auto result = CalibrateFloor(k, *board, method, k_covariance);
   if (!result) return result.error();
   if (!(result->pose.height_m > 0) ||
       !(result->pose.pitch_rad > 0 && result->pose.pitch_rad < std::numbers::pi)) {

@@ -18,6 +18,8 @@ struct FloorCalibrationFromImage {
 Result<FloorCalibrationFromImage> CalibrateFloorFromImage(const cv::Mat& grey,
                                                           const CameraIntrinsics& intrinsics,
                                                           const BoardSpec& board,
-                                                          FloorCalibrationMethod method);
+                                                          FloorCalibrationMethod method,
+                                                          const IntrinsicsCovariance& k_covariance =
+                                                              IntrinsicsCovariance::Zero());
 
 }  // namespace monocle
