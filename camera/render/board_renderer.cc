@@ -130,10 +130,10 @@ cv::Mat RenderBoardView(const CameraIntrinsics& k, const BoardViewPose& pose,
       double value = look.background;
       if (!std::isnan(bx[u])) {
         // Footprint half-widths on the board from the neighbouring pixels.
-        const double wx =
-            0.5 * (std::abs(MapSlope(board_x, u, v, 1, 0)) + std::abs(MapSlope(board_x, u, v, 0, 1)));
-        const double wy =
-            0.5 * (std::abs(MapSlope(board_y, u, v, 1, 0)) + std::abs(MapSlope(board_y, u, v, 0, 1)));
+        const double wx = 0.5 * (std::abs(MapSlope(board_x, u, v, 1, 0)) +
+                                 std::abs(MapSlope(board_x, u, v, 0, 1)));
+        const double wy = 0.5 * (std::abs(MapSlope(board_y, u, v, 1, 0)) +
+                                 std::abs(MapSlope(board_y, u, v, 0, 1)));
         value = CheckerValue(pattern, bx[u], by[u], wx, wy, look.background);
       }
       const double light = 1 + look.light_gradient_per_px.dot(Eigen::Vector2d(u, v) - centre);
@@ -158,8 +158,8 @@ std::vector<Eigen::Vector2d> ProjectBoardCorners(const CameraIntrinsics& k,
 }
 
 std::vector<BoardViewPose> RandomBoardViews(const CameraIntrinsics& k,
-                                            const CheckerPattern& pattern, int count,
-                                            uint64_t seed, ViewSpread spread) {
+                                            const CheckerPattern& pattern, int count, uint64_t seed,
+                                            ViewSpread spread) {
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 31);
   auto uniform = [&](double lo, double hi) {
     return std::uniform_real_distribution<double>(lo, hi)(rng);
@@ -197,10 +197,9 @@ std::vector<BoardViewPose> RandomBoardViews(const CameraIntrinsics& k,
     const double axis_angle = uniform(0, 2 * std::numbers::pi);
     const Eigen::Vector3d axis(std::cos(axis_angle), std::sin(axis_angle), 0);
     BoardViewPose pose;
-    pose.r_camera_board =
-        (Eigen::AngleAxisd(tilt_deg * std::numbers::pi / 180, axis) *
-         Eigen::AngleAxisd(uniform(-0.5, 0.5), Eigen::Vector3d::UnitZ()))
-            .toRotationMatrix();
+    pose.r_camera_board = (Eigen::AngleAxisd(tilt_deg * std::numbers::pi / 180, axis) *
+                           Eigen::AngleAxisd(uniform(-0.5, 0.5), Eigen::Vector3d::UnitZ()))
+                              .toRotationMatrix();
     const double depth_m = k.fx * board_width_m / (fraction * k.width_px);
     const auto ray = reference::UndistortPixels(
         k, {cv::Point2d(target.x() * k.width_px, target.y() * k.height_px)})[0];

@@ -38,7 +38,7 @@ struct BoardViewPose {
 // How the view photographs: uneven light across the board (a gradient), vignetting, blur,
 // noise, JPEG.
 struct BoardLook {
-  double background = 120;  // grey level around the board
+  double background = 120;                                          // grey level around the board
   Eigen::Vector2d light_gradient_per_px = Eigen::Vector2d::Zero();  // relative, across the image
   PhotoEffects effects;
 };
@@ -64,7 +64,7 @@ enum class ViewSpread {
 
 // `count` random views of the whole board (with its margin) inside the image.
 std::vector<BoardViewPose> RandomBoardViews(const CameraIntrinsics& k,
-                                            const CheckerPattern& pattern, int count,
-                                            uint64_t seed, ViewSpread spread);
+                                            const CheckerPattern& pattern, int count, uint64_t seed,
+                                            ViewSpread spread);
 
 }  // namespace monocle

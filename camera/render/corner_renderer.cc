@@ -201,7 +201,6 @@ RealisticLook RandomRealisticLook(uint64_t seed, const CameraIntrinsics& k) {
   return l;
 }
 
-
 cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
                           const CornerScene& scene) {
   const int w = k.width_px, h = k.height_px;
@@ -252,9 +251,9 @@ cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
   }
   if (scene.realistic) {
     const RealisticLook& l = *scene.realistic;
-    return Photograph(value, PhotoEffects{l.vignetting, l.hotspot_px, l.hotspot_radius_px,
-                                          l.hotspot_gain, l.blur_sigma_px, l.noise_sigma,
-                                          l.jpeg_quality},
+    return Photograph(value,
+                      PhotoEffects{l.vignetting, l.hotspot_px, l.hotspot_radius_px, l.hotspot_gain,
+                                   l.blur_sigma_px, l.noise_sigma, l.jpeg_quality},
                       scene.seed);
   }
   if (scene.noise_sigma > 0) {

@@ -50,8 +50,9 @@ middle, tilted 20-45 degrees in different directions, sharp and evenly lit.
   --json             print one JSON object (idl/cli_output.proto IntrinsicsOutput)
 
 Warnings (on stderr, and in the JSON) say when the views do not constrain the model:
-too few views, corners covering too little of the image, too little tilt, or a 1 sigma
-of fx above 1 % or of cx, cy above 1 % of the image size.
+too few views (< 10), boards covering < 30 % of the image or missing its corners, no
+tilt above 15 degrees, or a 1 sigma of fx above 0.3 % or of cx, cy above 0.3 % of the
+image size.
 )";
 
 constexpr double kResidualMagnification = 100;
@@ -93,9 +94,9 @@ void DrawView(cv::Mat& image, const BoardObservation& board, const ViewFit& fit)
     }
   }
   std::ostringstream text;
-  text << std::fixed << std::setprecision(3) << fit.name << "  RMS " << fit.rms_px
-       << " px  tilt " << std::setprecision(0) << fit.tilt_deg << " deg"
-       << (fit.outlier ? "  OUTLIER" : "") << "   red: residual x100";
+  text << std::fixed << std::setprecision(3) << fit.name << "  RMS " << fit.rms_px << " px  tilt "
+       << std::setprecision(0) << fit.tilt_deg << " deg" << (fit.outlier ? "  OUTLIER" : "")
+       << "   red: residual x100";
   cv::putText(image, text.str(), {10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 3,
               cv::LINE_AA);
   cv::putText(image, text.str(), {10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.6,
@@ -132,9 +133,9 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
     std::cout << kHelp;
     return WantsHelp(argv) ? kExitOk : kExitUsage;
   }
-  auto args = Args::Parse({argv.begin() + 1, argv.end()},
-                          {{"--board", "--square", "--out", "--model", "--overlay"},
-                           {"--json", "--drop-outliers"}});
+  auto args = Args::Parse(
+      {argv.begin() + 1, argv.end()},
+      {{"--board", "--square", "--out", "--model", "--overlay"}, {"--json", "--drop-outliers"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto out_path = args->Require("--out");
   if (!out_path) return Fail(out_path.error(), kExitUsage);
@@ -154,8 +155,9 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   if (overlay_dir) {
     std::error_code ec;
     std::filesystem::create_directories(*overlay_dir, ec);
-    if (ec) return Fail("cannot create --overlay folder '" + *overlay_dir + "': " + ec.message(),
-                        kExitFailure);
+    if (ec)
+      return Fail("cannot create --overlay folder '" + *overlay_dir + "': " + ec.message(),
+                  kExitFailure);
   }
 
   proto::IntrinsicsOutput out;
@@ -294,10 +296,12 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   for (const auto& fit : cal->views) {
     std::cout << "  " << fit.name << "  " << fit.rms_px << "   " << std::setprecision(0)
               << fit.tilt_deg << std::setprecision(3)
-              << (fit.dropped ? "  outlier, dropped" : fit.outlier ? "  OUTLIER" : "")
-              << (fit.rejected_corners ? "  (" + std::to_string(fit.rejected_corners) +
-                                             " corners left out)"
-                                       : "")
+              << (fit.dropped   ? "  outlier, dropped"
+                  : fit.outlier ? "  OUTLIER"
+                                : "")
+              << (fit.rejected_corners
+                      ? "  (" + std::to_string(fit.rejected_corners) + " corners left out)"
+                      : "")
               << "\n";
   }
   std::cout << "written to  " << *out_path << "\n";

@@ -39,9 +39,9 @@ int RenderBoards(const std::vector<std::string>& argv) {
     std::cout << kHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--calibration", "--board", "--square", "--views", "--out-dir",
-                                  "--seed", "--spread"},
-                                 {"--clean"}});
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--board", "--square", "--views", "--out-dir", "--seed", "--spread"},
+             {"--clean"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
@@ -76,8 +76,9 @@ int RenderBoards(const std::vector<std::string>& argv) {
   const auto base_seed = static_cast<uint64_t>(*seed);
   const auto poses = RandomBoardViews(k, base, static_cast<int>(*count), base_seed, spread);
   if (poses.size() < static_cast<size_t>(*count)) {
-    return Fail("only " + std::to_string(poses.size()) + " views of a " + std::to_string(spec->cols) +
-                    "x" + std::to_string(spec->rows) + " board fit the image; use a smaller board",
+    return Fail("only " + std::to_string(poses.size()) + " views of a " +
+                    std::to_string(spec->cols) + "x" + std::to_string(spec->rows) +
+                    " board fit the image; use a smaller board",
                 kExitFailure);
   }
   const bool terminal = isatty(STDERR_FILENO) != 0;

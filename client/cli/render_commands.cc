@@ -102,7 +102,8 @@ int RenderCommand(const std::vector<std::string>& argv) {
   if (!argv.empty() && argv[0] == "boards") return RenderBoards({argv.begin() + 1, argv.end()});
   if (argv.empty() || argv[0] != "floor" || WantsHelp(argv)) {
     std::cout << "Usage: monocle render floor|corner|boards ...  (monocle render boards --help)\n\n"
-              << kHelp << "\n" << kCornerHelp;
+              << kHelp << "\n"
+              << kCornerHelp;
     return WantsHelp(argv) ? kExitOk : kExitUsage;
   }
   auto args =

@@ -101,8 +101,8 @@ std::optional<Eigen::Vector2d> PixelToNormalized(const CameraIntrinsics& k,
   return n;
 }
 
-Eigen::Matrix<double, 2, kNumIntrinsicParams> PixelJacobianWrtIntrinsics(
-    const CameraIntrinsics& k, const Eigen::Vector2d& n) {
+Eigen::Matrix<double, 2, kNumIntrinsicParams> PixelJacobianWrtIntrinsics(const CameraIntrinsics& k,
+                                                                         const Eigen::Vector2d& n) {
   const Eigen::Vector2d d = Distort(k, n);
   const double x = n.x(), y = n.y();
   const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;

@@ -8,9 +8,9 @@
 
 #include <Eigen/Core>
 #include <array>
-#include <string>
 #include <optional>
 #include <ostream>
+#include <string>
 
 namespace monocle {
 

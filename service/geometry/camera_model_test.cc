@@ -115,8 +115,7 @@ namespace {
 // with the analytic Jacobians.
 TEST(CameraModelTest, IntrinsicsJacobiansMatchFiniteDifferences) {
   const CameraIntrinsics k = WideAngleCamera();
-  const double steps[kNumIntrinsicParams] = {1e-3, 1e-3, 1e-3, 1e-3, 1e-7,
-                                             1e-7, 1e-8, 1e-8, 1e-7};
+  const double steps[kNumIntrinsicParams] = {1e-3, 1e-3, 1e-3, 1e-3, 1e-7, 1e-7, 1e-8, 1e-8, 1e-7};
   const Eigen::Vector2d pixels[] = {{100, 80}, {640, 500}, {1200, 950}};
   for (const auto& px : pixels) {
     Eigen::Matrix2d n_from_px;
@@ -135,8 +134,7 @@ TEST(CameraModelTest, IntrinsicsJacobiansMatchFiniteDifferences) {
           << kIntrinsicParamNames[p] << " at " << px.transpose();
       const Eigen::Vector2d d_normalized =
           (*PixelToNormalized(plus, px) - *PixelToNormalized(minus, px)) / (2 * steps[p]);
-      EXPECT_NEAR((d_normalized - j_normalized.col(p)).norm(), 0,
-                  1e-5 * (1 + d_normalized.norm()))
+      EXPECT_NEAR((d_normalized - j_normalized.col(p)).norm(), 0, 1e-5 * (1 + d_normalized.norm()))
           << kIntrinsicParamNames[p] << " at " << px.transpose();
     }
   }

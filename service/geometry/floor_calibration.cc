@@ -188,7 +188,9 @@ Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObs
   // Sensitivity of the optimum to the intrinsics (6 x 9), then in output order.
   const Eigen::MatrixXd& jq = summary.jacobian;
   const Eigen::MatrixXd d_q_d_k =
-      -(jq.transpose() * jq).ldlt().solve(jq.transpose() * ResidualJacobianWrtIntrinsics(k, board, q));
+      -(jq.transpose() * jq)
+           .ldlt()
+           .solve(jq.transpose() * ResidualJacobianWrtIntrinsics(k, board, q));
   Eigen::Matrix<double, 4, kNumIntrinsicParams> d_pose_d_k;
   for (int a = 0; a < 4; ++a) d_pose_d_k.row(a) = d_q_d_k.row(order[a]);
   AddIntrinsicsUncertainty(d_pose_d_k, k_covariance, &out);

@@ -130,10 +130,9 @@ TEST(FloorCalibrationTest, IntrinsicsSensitivityMatchesRefitting) {
       const auto plus = CalibrateFloor(PerturbIntrinsics(k, delta), *board, method);
       const auto minus = CalibrateFloor(PerturbIntrinsics(k, -delta), *board, method);
       ASSERT_TRUE(plus.ok() && minus.ok());
-      const Eigen::Vector4d moved(plus->pose.height_m - minus->pose.height_m,
-                                  plus->pose.pitch_rad - minus->pose.pitch_rad,
-                                  plus->pose.yaw_rad - minus->pose.yaw_rad,
-                                  plus->pose.roll_rad - minus->pose.roll_rad);
+      const Eigen::Vector4d moved(
+          plus->pose.height_m - minus->pose.height_m, plus->pose.pitch_rad - minus->pose.pitch_rad,
+          plus->pose.yaw_rad - minus->pose.yaw_rad, plus->pose.roll_rad - minus->pose.roll_rad);
       const Eigen::Vector4d numeric = moved / (2 * delta[p]) * k_cov(p, p);
       const Eigen::Vector4d reported = cal->intrinsics_cross_covariance.col(p);
       for (int a = 0; a < pose_params; ++a) {

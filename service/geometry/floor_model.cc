@@ -117,7 +117,7 @@ using IntrinsicsJacobian2 = Eigen::Matrix<double, 2, kNumIntrinsicParams>;
 // Paper coordinates of a pixel and their Jacobians w.r.t. (u, v, roll) and the intrinsics.
 struct PaperCoordinates {
   Eigen::Vector2d xy;
-  Eigen::Matrix<double, 2, 3> jacobian;  // d(x1, y1)/d(u, v, roll)
+  Eigen::Matrix<double, 2, 3> jacobian;                                   // d(x1, y1)/d(u, v, roll)
   IntrinsicsJacobian2 intrinsics_jacobian = IntrinsicsJacobian2::Zero();  // d(x1, y1)/d(k)
 };
 

@@ -147,8 +147,8 @@ TEST(FloorModelTest, IntrinsicsUncertaintyMatchesFiniteDifferences) {
   const FloorPose pose{1.1, Deg(112), Deg(3), Deg(4)};
   const Eigen::Vector2d floor_px(300, 800), top_px(305, 600);
   constexpr int kParams = 4 + kNumIntrinsicParams;
-  const double steps[kParams] = {1e-6, 1e-7, 1e-7, 1e-7, 1e-4, 1e-4, 1e-4, 1e-4, 1e-7,
-                                 1e-7, 1e-8, 1e-8, 1e-7};
+  const double steps[kParams] = {1e-6, 1e-7, 1e-7, 1e-7, 1e-4, 1e-4, 1e-4,
+                                 1e-4, 1e-7, 1e-7, 1e-8, 1e-8, 1e-7};
   Eigen::Matrix<double, 3, kParams> jacobian;
   for (int p = 0; p < kParams; ++p) {
     FloorPose plus = pose, minus = pose;
@@ -170,7 +170,8 @@ TEST(FloorModelTest, IntrinsicsUncertaintyMatchesFiniteDifferences) {
   // A random covariance with the scales of a real calibration.
   std::mt19937_64 rng(3);
   std::normal_distribution<double> normal;
-  const double scale[kParams] = {2e-3, 1e-3, 1e-3, 1e-3, 2, 2, 1.5, 1.5, 4e-3, 8e-3, 3e-4, 3e-4, 5e-3};
+  const double scale[kParams] = {2e-3, 1e-3, 1e-3, 1e-3, 2,    2,   1.5,
+                                 1.5,  4e-3, 8e-3, 3e-4, 3e-4, 5e-3};
   Eigen::Matrix<double, kParams, kParams> a;
   for (int i = 0; i < kParams; ++i)
     for (int j = 0; j < kParams; ++j) a(i, j) = normal(rng) * scale[i];
@@ -183,7 +184,9 @@ TEST(FloorModelTest, IntrinsicsUncertaintyMatchesFiniteDifferences) {
   const auto m = MeasureVerticalPoint(k, pose, noise, floor_px, top_px);
   ASSERT_TRUE(m.ok());
   EXPECT_LT((m->covariance - expected).norm(), 1e-4 * expected.norm())
-      << "analytic\n" << m->covariance << "\nnumeric\n" << expected;
+      << "analytic\n"
+      << m->covariance << "\nnumeric\n"
+      << expected;
   const auto f = MeasureFloorPoint(k, pose, noise, floor_px);
   ASSERT_TRUE(f.ok());
   const Eigen::Matrix2d expected_xy = expected.topLeftCorner(2, 2);

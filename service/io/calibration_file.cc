@@ -180,8 +180,7 @@ std::string FormatCalibration(const CameraCalibration& c) {
   if (c.intrinsics_rms_px > 0) in->set_rms_px(c.intrinsics_rms_px);
   if (!c.intrinsics_covariance.isZero()) {
     for (int i = 0; i < kNumIntrinsicParams * kNumIntrinsicParams; ++i)
-      in->add_covariance(
-          c.intrinsics_covariance(i / kNumIntrinsicParams, i % kNumIntrinsicParams));
+      in->add_covariance(c.intrinsics_covariance(i / kNumIntrinsicParams, i % kNumIntrinsicParams));
   }
   if (!c.distortion_model.empty()) in->set_model(c.distortion_model);
   if (c.floor) {
@@ -195,8 +194,8 @@ std::string FormatCalibration(const CameraCalibration& c) {
     }
     if (!c.floor->intrinsics_cross_covariance.isZero()) {
       for (int i = 0; i < 4 * kNumIntrinsicParams; ++i)
-        f->add_intrinsics_cross_covariance(c.floor->intrinsics_cross_covariance(
-            i / kNumIntrinsicParams, i % kNumIntrinsicParams));
+        f->add_intrinsics_cross_covariance(
+            c.floor->intrinsics_cross_covariance(i / kNumIntrinsicParams, i % kNumIntrinsicParams));
     }
     if (c.floor->rms_px > 0) f->set_rms_px(c.floor->rms_px);
     f->set_method(ToString(c.floor->method));

@@ -407,9 +407,9 @@ void Service::ServeFloorCalibrationRequests() {
         fail(2, frame.error().message);
       } else {
         CameraCalibration cal = w->calibration();
-        const auto result = CalibrateFloorFromImage(frame->grey, cal.intrinsics, *spec,
-                                                    FloorCalibrationMethod::kFull,
-                                                    cal.intrinsics_covariance);
+        const auto result =
+            CalibrateFloorFromImage(frame->grey, cal.intrinsics, *spec,
+                                    FloorCalibrationMethod::kFull, cal.intrinsics_covariance);
         if (!result) {
           fail(2, "frame " + std::to_string(frame->sequence) + ": " + result.error().message);
         } else {

@@ -111,7 +111,8 @@ Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& 
       std::vector<cv::Point2f> again{expected};
       const int small = std::max(2, half_window / 2);
       cv::cornerSubPix(grey, again, cv::Size(small, small), cv::Size(-1, -1), criteria);
-      if (cv::norm(again[0] - expected) < cv::norm(corners[idx] - expected)) corners[idx] = again[0];
+      if (cv::norm(again[0] - expected) < cv::norm(corners[idx] - expected))
+        corners[idx] = again[0];
     }
   }
 

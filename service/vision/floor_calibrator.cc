@@ -5,11 +5,9 @@
 
 namespace monocle {
 
-Result<FloorCalibrationFromImage> CalibrateFloorFromImage(const cv::Mat& grey,
-                                                          const CameraIntrinsics& k,
-                                                          const BoardSpec& spec,
-                                                          FloorCalibrationMethod method,
-                                                          const IntrinsicsCovariance& k_covariance) {
+Result<FloorCalibrationFromImage> CalibrateFloorFromImage(
+    const cv::Mat& grey, const CameraIntrinsics& k, const BoardSpec& spec,
+    FloorCalibrationMethod method, const IntrinsicsCovariance& k_covariance) {
   if (grey.cols != k.width_px || grey.rows != k.height_px) {
     std::ostringstream os;
     os << "image is " << grey.cols << "x" << grey.rows << " but the calibration is for "

@@ -15,11 +15,9 @@ struct FloorCalibrationFromImage {
   size_t corners = 0;  // board corners used
 };
 
-Result<FloorCalibrationFromImage> CalibrateFloorFromImage(const cv::Mat& grey,
-                                                          const CameraIntrinsics& intrinsics,
-                                                          const BoardSpec& board,
-                                                          FloorCalibrationMethod method,
-                                                          const IntrinsicsCovariance& k_covariance =
-                                                              IntrinsicsCovariance::Zero());
+Result<FloorCalibrationFromImage> CalibrateFloorFromImage(
+    const cv::Mat& grey, const CameraIntrinsics& intrinsics, const BoardSpec& board,
+    FloorCalibrationMethod method,
+    const IntrinsicsCovariance& k_covariance = IntrinsicsCovariance::Zero());
 
 }  // namespace monocle

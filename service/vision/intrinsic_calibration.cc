@@ -15,8 +15,8 @@ namespace {
 constexpr size_t kRecommendedViews = 10;
 constexpr double kMinCoverage = 0.3;        // fraction of the image inside some board
 constexpr double kMinUsefulTiltDeg = 15.0;  // the largest tilt among the views
-constexpr double kMaxRelativeFocalSigma = 0.01;
-constexpr double kMaxPrincipalPointSigmaFraction = 0.01;  // of the image size
+constexpr double kMaxRelativeFocalSigma = 0.003;
+constexpr double kMaxPrincipalPointSigmaFraction = 0.003;  // of the image size
 
 struct Correspondences {
   std::vector<std::vector<cv::Point3f>> object;
@@ -35,8 +35,8 @@ Correspondences Collect(const std::vector<IntrinsicView>& views, const std::vect
     std::vector<cv::Point2f> img;
     for (int j = 0; j < b.rows; ++j) {
       for (int i = 0; i < b.cols; ++i) {
-        if (!rejected.empty() && std::find(rejected[v].begin(), rejected[v].end(),
-                                           j * b.cols + i) != rejected[v].end())
+        if (!rejected.empty() &&
+            std::find(rejected[v].begin(), rejected[v].end(), j * b.cols + i) != rejected[v].end())
           continue;
         const Eigen::Vector2d p = b.BoardPoint(i, j);
         obj.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.f);
@@ -105,8 +105,8 @@ CameraIntrinsics ToIntrinsics(const cv::Mat& camera_matrix, const cv::Mat& dist,
 void Evaluate(const Correspondences& c, Fit* fit) {
   const std::vector<int> free = FreeParameters(fit->model);
   const int nk = static_cast<int>(free.size());
-  const cv::Matx33d camera_matrix(fit->intrinsics.fx, 0, fit->intrinsics.cx, 0,
-                                  fit->intrinsics.fy, fit->intrinsics.cy, 0, 0, 1);
+  const cv::Matx33d camera_matrix(fit->intrinsics.fx, 0, fit->intrinsics.cx, 0, fit->intrinsics.fy,
+                                  fit->intrinsics.cy, 0, 0, 1);
   cv::Mat dist(1, 5, CV_64F);
   for (int i = 0; i < 5; ++i) dist.at<double>(i) = fit->intrinsics.distortion[i];
   Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nk, nk);
@@ -186,7 +186,8 @@ std::string ModelReason(const std::vector<Fit>& fits, size_t chosen, bool automa
   const Fit& f = fits[chosen];
   auto rms = [](const Fit& x) { return std::sqrt(x.rss / (x.residuals / 2)); };
   if (!automatic) return std::string(ToString(f.model)) + ", as asked";
-  std::string reason = std::string(ToString(f.model)) + ", the smallest model the data support (BIC";
+  std::string reason =
+      std::string(ToString(f.model)) + ", the smallest model the data support (BIC";
   for (size_t i = 0; i < fits.size(); ++i) {
     reason += std::string(i ? "; " : ": ") + ToString(fits[i].model) + " RMS " +
               Fixed(rms(fits[i]), 4) + " px";
@@ -218,15 +219,15 @@ void MeasureCoverage(const std::vector<IntrinsicView>& views, const std::vector<
     if (!used[v]) continue;
     const auto& b = views[v].board;
     std::vector<cv::Point> hull;
-    for (const auto& [i, j] : {std::pair{0, 0}, {b.cols - 1, 0}, {b.cols - 1, b.rows - 1},
-                               {0, b.rows - 1}}) {
+    for (const auto& [i, j] :
+         {std::pair{0, 0}, {b.cols - 1, 0}, {b.cols - 1, b.rows - 1}, {0, b.rows - 1}}) {
       const auto& p = b.Pixel(i, j);
       hull.emplace_back(static_cast<int>(p.x() * kScale), static_cast<int>(p.y() * kScale));
     }
     cv::fillConvexPoly(mask, hull, cv::Scalar(255));
     for (const auto& p : b.pixels) {
-      const bool left = p.x() < size.width * 0.25, right = p.x() > size.width * 0.75;
-      const bool top = p.y() < size.height * 0.25, bottom = p.y() > size.height * 0.75;
+      const bool left = p.x()<size.width * 0.25, right = p.x()> size.width * 0.75;
+      const bool top = p.y()<size.height * 0.25, bottom = p.y()> size.height * 0.75;
       corner_seen[0] |= top && left;
       corner_seen[1] |= top && right;
       corner_seen[2] |= bottom && left;
@@ -282,41 +283,49 @@ Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& v
                                          DistortionModel::kK1K2P1P2K3}
           : std::vector<DistortionModel>{options.model};
   // A corner refined onto the wrong spot (a blunder of pixels, not noise) would dominate
-  // the fit and the choice of model: one fit with the richest model finds them, as
-  // residuals beyond 5 robust sigmas (and 0.5 px); they are left out of every fit below.
+  // the fit and the choice of model. The richest model's fit finds them, as residuals beyond
+  // 5 robust sigmas (and 0.5 px); if there are any, every model is fitted again without them.
+  auto fit_all = [&](const Correspondences& c) -> Result<std::vector<Fit>> {
+    std::vector<Fit> fits;
+    for (const auto model : candidates) {
+      auto fit = FitModel(c, image_size, model);
+      if (!fit) return fit.error();
+      fits.push_back(std::move(*fit));
+    }
+    return fits;
+  };
+  Correspondences c = Collect(views, use, {});
+  auto fitted = fit_all(c);
+  if (!fitted) return fitted.error();
   std::vector<std::vector<int>> rejected(views.size());
   int rejected_count = 0;
   {
-    const Correspondences all = Collect(views, use, {});
-    auto probe = FitModel(all, image_size, candidates.back());
-    if (!probe) return probe.error();
+    const Fit& richest = fitted->back();
     std::vector<double> magnitudes;
-    for (const auto& view : probe->residuals_px)
+    for (const auto& view : richest.residuals_px)
       for (const auto& r : view) magnitudes.push_back(r.norm());
     std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
                      magnitudes.end());
     // The median of |r| for 2-D Gaussian noise is 1.1774 sigma.
     const double robust_sigma = magnitudes[magnitudes.size() / 2] / 1.1774;
     const double limit = std::max(5 * robust_sigma, 0.5);
-    for (size_t u = 0; u < all.view_index.size(); ++u) {
-      const auto& b = views[all.view_index[u]].board;
-      for (size_t i = 0; i < probe->residuals_px[u].size(); ++i) {
-        if (probe->residuals_px[u][i].norm() > limit) rejected[all.view_index[u]].push_back(i);
+    for (size_t u = 0; u < c.view_index.size(); ++u) {
+      auto& view_rejected = rejected[c.view_index[u]];
+      for (size_t i = 0; i < richest.residuals_px[u].size(); ++i) {
+        if (richest.residuals_px[u][i].norm() > limit) view_rejected.push_back(i);
       }
       // A view that loses more than a quarter of its corners is a bad view, not a few bad
       // corners: keep it whole and let the outlier test name it.
-      if (rejected[all.view_index[u]].size() * 4 > b.pixels.size())
-        rejected[all.view_index[u]].clear();
-      rejected_count += rejected[all.view_index[u]].size();
+      if (view_rejected.size() * 4 > richest.residuals_px[u].size()) view_rejected.clear();
+      rejected_count += view_rejected.size();
     }
   }
-  const Correspondences c = Collect(views, use, rejected);
-  std::vector<Fit> fits;
-  for (const auto model : candidates) {
-    auto fit = FitModel(c, image_size, model);
-    if (!fit) return fit.error();
-    fits.push_back(std::move(*fit));
+  if (rejected_count > 0) {
+    c = Collect(views, use, rejected);
+    fitted = fit_all(c);
+    if (!fitted) return fitted.error();
   }
+  const std::vector<Fit>& fits = *fitted;
   size_t chosen = 0;
   for (size_t i = 1; i < fits.size(); ++i)
     if (fits[i].bic < fits[chosen].bic) chosen = i;
@@ -328,7 +337,8 @@ Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& v
   out.covariance = fit.covariance;
   out.model = fit.model;
   out.model_reason = ModelReason(fits, chosen, options.model == DistortionModel::kAuto);
-  for (const auto& f : fits) out.trials.push_back({f.model, std::sqrt(f.rss / (f.residuals / 2)), f.bic});
+  for (const auto& f : fits)
+    out.trials.push_back({f.model, std::sqrt(f.rss / (f.residuals / 2)), f.bic});
   out.rms_px = std::sqrt(fit.rss / (fit.residuals / 2));
   out.corner_sigma_px = fit.corner_sigma_px;
   std::vector<double> view_rms;
@@ -388,9 +398,8 @@ Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<IntrinsicView
                                                  const cv::Size& image_size,
                                                  const IntrinsicCalibrationOptions& options) {
   if (views.size() < 3) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "at least 3 board views are needed, " + std::to_string(views.size()) +
-                         " given");
+    return MakeError(ErrorCode::kInvalidArgument, "at least 3 board views are needed, " +
+                                                      std::to_string(views.size()) + " given");
   }
   std::vector<bool> use(views.size(), true);
   auto first = CalibrateSubset(views, use, image_size, options);

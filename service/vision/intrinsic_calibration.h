@@ -59,13 +59,13 @@ struct IntrinsicCalibration {
   CameraIntrinsics intrinsics;
   IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();  // camera_model.h's order
   DistortionModel model = DistortionModel::kK1K2P1P2;
-  std::string model_reason;         // which model and why, for people
-  std::vector<ModelTrial> trials;   // every model fitted (one unless kAuto)
-  double rms_px = 0;                // over all corners of the views used
-  double corner_sigma_px = 0;       // noise of one corner coordinate, from the residuals
-  int rejected_corners = 0;         // over all views
+  std::string model_reason;        // which model and why, for people
+  std::vector<ModelTrial> trials;  // every model fitted (one unless kAuto)
+  double rms_px = 0;               // over all corners of the views used
+  double corner_sigma_px = 0;      // noise of one corner coordinate, from the residuals
+  int rejected_corners = 0;        // over all views
   std::vector<ViewFit> views;
-  double coverage = 0;              // fraction of the image inside some view's board
+  double coverage = 0;                         // fraction of the image inside some view's board
   std::vector<std::string> uncovered_corners;  // image corners no board reached
   double max_tilt_deg = 0;
   std::vector<std::string> warnings;  // the views do not constrain the model well

@@ -3,8 +3,12 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "idl/cli_output.pb.h"
 #include "service/geometry/floor_model.h"
@@ -190,41 +194,61 @@ INSTANTIATE_TEST_SUITE_P(
                  "unknown option --calibraton"}),
     [](const auto& info) { return info.param.name; });
 
-TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViews) {
+TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViewsWithItsSigma) {
   TempDir dir("monocle_intrinsics_cli");
-  const auto k = testing::PaperCamera();
-  std::vector<std::string> images;
-  const FloorPose views[] = {
-      {1.0, Deg(120), Deg(0), Deg(0)},     {1.0, Deg(135), Deg(25), Deg(10)},
-      {0.9, Deg(115), Deg(-20), Deg(-12)}, {1.2, Deg(140), Deg(40), Deg(-5)},
-      {0.8, Deg(125), Deg(-35), Deg(15)},  {1.1, Deg(145), Deg(10), Deg(20)}};
-  int index = 0;
-  for (const auto& pose : views) {
-    CameraCalibration c;
-    c.intrinsics = k;
-    c.floor = FloorCalibration{};
-    c.floor->pose = pose;
-    const std::string cal = dir / ("view" + std::to_string(index) + ".pbtxt");
-    ASSERT_TRUE(SaveCalibrationFileAtomically(cal, c).ok());
-    images.push_back(dir / ("view" + std::to_string(index) + ".png"));
-    const auto r =
-        RunMonocle(dir, "render floor --calibration " + cal +
-                            " --board 9x6 --square 0.05 --noise 2 --out " + images.back());
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    ++index;
-  }
-  std::string args =
-      "intrinsics calibrate --board 9x6 --square 0.05 --out " + dir / "intrinsics.pbtxt";
-  for (const auto& i : images) args += " " + i;
-  const auto r = RunMonocle(dir, args);
+  CameraCalibration truth;
+  truth.intrinsics = testing::PaperCamera();
+  ASSERT_TRUE(SaveCalibrationFileAtomically(dir / "truth.pbtxt", truth).ok());
+  auto r = RunMonocle(dir, "render boards --calibration " + dir / "truth.pbtxt" +
+                               " --board 9x6 --square 0.04 --views 12 --seed 21 --out-dir " +
+                               dir / "views");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto got = LoadCalibrationFile(dir / "intrinsics.pbtxt");
+  // An existing file with a floor section: the floor must go, the corner section stays.
+  CameraCalibration old = truth;
+  old.floor = FloorCalibration{};
+  old.floor->pose = FloorPose{1.0, Deg(120), 0, 0};
+  old.ceiling_distance_m = 1.5;
+  ASSERT_TRUE(SaveCalibrationFileAtomically(dir / "cal.pbtxt", old).ok());
+  std::string args = "intrinsics calibrate --board 9x6 --square 0.04 --json --out " +
+                     dir / "cal.pbtxt" + " --overlay " + dir / "overlay";
+  for (int i = 1; i <= 12; ++i) {
+    std::ostringstream name;
+    name << "views/view-" << std::setw(2) << std::setfill('0') << i << ".png";
+    args += " " + dir / name.str();
+  }
+  r = RunMonocle(dir, args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("floor section"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("\"model\":\"k1k2p1p2\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"floor_removed\":true"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"tilt_deg\""), std::string::npos) << r.out;
+  const auto got = LoadCalibrationFile(dir / "cal.pbtxt");
   ASSERT_TRUE(got.ok()) << got.error();
-  EXPECT_NEAR(got->intrinsics.fx, k.fx, 0.01 * k.fx);
-  EXPECT_NEAR(got->intrinsics.fy, k.fy, 0.01 * k.fy);
-  EXPECT_NEAR(got->intrinsics.cx, k.cx, 10);
-  EXPECT_NEAR(got->intrinsics.cy, k.cy, 10);
-  EXPECT_NEAR(got->intrinsics.distortion[0], k.distortion[0], 0.03);
+  EXPECT_FALSE(got->floor.has_value());
+  EXPECT_EQ(got->ceiling_distance_m, 1.5);
+  EXPECT_EQ(got->distortion_model, "k1k2p1p2");
+  const auto& k = got->intrinsics;
+  const auto& t = truth.intrinsics;
+  const IntrinsicsCovariance& cov = got->intrinsics_covariance;
+  // Within 4 sigma of the truth, and the sigma itself plausible (not zero, not huge).
+  const double errors[4] = {k.fx - t.fx, k.fy - t.fy, k.cx - t.cx, k.cy - t.cy};
+  for (int p = 0; p < 4; ++p) {
+    const double sigma = std::sqrt(cov(p, p));
+    EXPECT_GT(sigma, 0.05) << kIntrinsicParamNames[p];
+    EXPECT_LT(sigma, 5.0) << kIntrinsicParamNames[p];
+    EXPECT_LT(std::abs(errors[p]), 4 * sigma) << kIntrinsicParamNames[p];
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir / "overlay/coverage.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "overlay/view-07.png"));
+
+  // Too few images is a usage error; a bad model name too.
+  r = RunMonocle(dir, "intrinsics calibrate --board 9x6 --square 0.04 --out " + dir / "x.pbtxt" +
+                          " " + dir / "views/view-01.png");
+  EXPECT_EQ(r.exit_code, 2);
+  r = RunMonocle(dir, "intrinsics calibrate --model k9 --board 9x6 --square 0.04 --out " +
+                          dir / "x.pbtxt" + " a.png b.png c.png");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("not one of auto"), std::string::npos) << r.err;
 }
 
 }  // namespace
