@@ -21,7 +21,7 @@ enum class SimScene { kCorner, kFloor };
 
 struct SimCameraOptions {
   SimScene scene = SimScene::kCorner;
-  std::string ip = "127.0.0.1";  // loopback; two simulated cameras cannot share an address
+  std::string ip = "127.0.0.1";        // loopback; two simulated cameras cannot share an address
   std::string serial = "MONOCLE-SIM";  // 1 to 15 characters (a 16-byte register)
   int width = 1280, height = 1024;
   double fps = 30;

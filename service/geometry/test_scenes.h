@@ -22,6 +22,20 @@ inline CameraIntrinsics PaperCamera() {
   return k;
 }
 
+// A 640x512 industrial camera with a mild wide-angle lens (radial and tangential
+// distortion): small enough for tests that calibrate it many times.
+inline CameraIntrinsics SmallWideAngleCamera() {
+  CameraIntrinsics k;
+  k.width_px = 640;
+  k.height_px = 512;
+  k.fx = 560.3;
+  k.fy = 559.1;
+  k.cx = 322.6;
+  k.cy = 249.4;
+  k.distortion = {-0.21, 0.08, 0.0009, -0.0012, 0, 0, 0, 0};
+  return k;
+}
+
 inline double Deg(double d) { return d * std::numbers::pi / 180.0; }
 
 // Random floor pose in the range a robot camera looks at the floor from.

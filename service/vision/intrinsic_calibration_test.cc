@@ -6,6 +6,7 @@
 #include <random>
 
 #include "camera/render/board_renderer.h"
+#include "service/geometry/test_scenes.h"
 #include "service/vision/chessboard.h"
 
 namespace monocle {
@@ -13,17 +14,7 @@ namespace {
 
 const CheckerPattern kBoard{9, 6, 0.04};
 
-CameraIntrinsics TrueCamera() {
-  CameraIntrinsics k;
-  k.width_px = 640;
-  k.height_px = 512;
-  k.fx = 560.3;
-  k.fy = 559.1;
-  k.cx = 322.6;
-  k.cy = 249.4;
-  k.distortion = {-0.21, 0.08, 0.0009, -0.0012, 0, 0, 0, 0};
-  return k;
-}
+CameraIntrinsics TrueCamera() { return testing::SmallWideAngleCamera(); }
 
 // Rendered, photographed and detected views, as a user's images would be.
 std::vector<IntrinsicView> DetectedViews(const CameraIntrinsics& k, int count, uint64_t seed,

@@ -39,19 +39,7 @@ const CheckerPattern kIntrinsicsBoard{9, 6, 0.04};
 constexpr int kFloorCols = 11, kFloorRows = 8;
 constexpr double kFloorSquare = 0.06;
 
-// A 1/2" industrial camera with a mild wide-angle lens, half of PaperCamera's resolution so
-// that 100 trials x 12 views stay within the test budget.
-CameraIntrinsics TrueCamera() {
-  CameraIntrinsics k;
-  k.width_px = 640;
-  k.height_px = 512;
-  k.fx = 560.3;
-  k.fy = 559.1;
-  k.cx = 322.6;
-  k.cy = 249.4;
-  k.distortion = {-0.21, 0.08, 0.0009, -0.0012, 0, 0, 0, 0};
-  return k;
-}
+CameraIntrinsics TrueCamera() { return testing::SmallWideAngleCamera(); }
 
 // A floor camera 0.5-1.1 m high whose top image row looks 2 degrees or more below the
 // horizon and sees the floor 4.5 m ahead, so points out to 4 m are in view.
