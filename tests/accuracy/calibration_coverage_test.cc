@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -34,7 +35,13 @@ using testing::Deg;
 
 constexpr int kTrials = 100;
 constexpr int kViewsPerTrial = 12;
-constexpr uint64_t kSeed = 52117;  // never tuned on: the development seed was 1
+// The seed of record; MONOCLE_COVERAGE_SEED=N runs another set. 52117 was first run after
+// development (on seed 1), but the board-view spread and the corner-blunder screen were
+// changed after looking at its results, so README also reports a seed never looked at.
+uint64_t Seed() {
+  const char* env = std::getenv("MONOCLE_COVERAGE_SEED");
+  return env != nullptr ? std::strtoull(env, nullptr, 10) : 52117;
+}
 const CheckerPattern kIntrinsicsBoard{9, 6, 0.04};
 constexpr int kFloorCols = 11, kFloorRows = 8;
 constexpr double kFloorSquare = 0.06;
@@ -82,12 +89,12 @@ std::optional<IntrinsicCalibration> CalibrateFromFreshViews(const CameraIntrinsi
 
 TEST(CalibrationCoverageTest, TruthFallsWithinReportedSigma) {
   const CameraIntrinsics truth_k = TrueCamera();
-  std::mt19937_64 rng(kSeed);
+  std::mt19937_64 rng(Seed());
   std::map<std::string, Tally> tallies;
   std::map<std::string, int> models;
   int failed = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
-    const uint64_t seed = kSeed + 7919 * trial;
+    const uint64_t seed = Seed() + 7919 * trial;
     const auto intrinsics = CalibrateFromFreshViews(truth_k, seed);
     if (!intrinsics) {
       ++failed;
@@ -148,7 +155,7 @@ TEST(CalibrationCoverageTest, TruthFallsWithinReportedSigma) {
     }
   }
   std::cout << "intrinsics from " << kViewsPerTrial << " fresh realistic views per trial, "
-            << kTrials << " trials (seed " << kSeed << "), " << failed << " failed; models:";
+            << kTrials << " trials (seed " << Seed() << "), " << failed << " failed; models:";
   for (const auto& [name, count] : models) std::cout << " " << name << " " << count;
   std::cout << "\n";
   for (const auto& [name, tally] : tallies) {
