@@ -44,8 +44,9 @@ middle, tilted 20-45 degrees in different directions, sharp and evenly lit.
                      information criterion; the choice and its reason are printed
   --drop-outliers    refit without the views whose RMS exceeds 3x the median view's
                      (they are always named)
-  --overlay DIR      write DIR/<image>.png per view (detected corners, and each corner's
-                     residual magnified 100x as a red line) and DIR/coverage.png (where
+  --overlay DIR      write DIR/<image>.png per view (detected corners, each corner's
+                     residual magnified 100x as a red line, corners left out as blunders
+                     as red circles) and DIR/coverage.png (where
                      in the image corners were seen)
   --json             print one JSON object (idl/cli_output.proto IntrinsicsOutput)
 
@@ -81,17 +82,19 @@ cv::Mat ToColour(const cv::Mat& grey) {
 cv::Point2d P(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
 
 void DrawView(cv::Mat& image, const BoardObservation& board, const ViewFit& fit) {
-  // Residuals are listed for the corners used, in order; rejected corners are skipped.
+  // Residuals are listed for the corners used, in order; rejected corners (drawn in red,
+  // without a residual) are skipped.
   size_t next = 0;
   for (size_t i = 0; i < board.pixels.size(); ++i) {
     const auto& px = board.pixels[i];
-    const bool used = next < fit.residuals_px.size();
-    cv::circle(image, P(px), 3, cv::Scalar(0, 200, 0), 1, cv::LINE_AA);
-    if (used) {
-      cv::line(image, P(px), P(px + kResidualMagnification * fit.residuals_px[next]),
-               cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
-      ++next;
-    }
+    const bool rejected = std::find(fit.rejected_indices.begin(), fit.rejected_indices.end(),
+                                    static_cast<int>(i)) != fit.rejected_indices.end();
+    cv::circle(image, P(px), rejected ? 6 : 3,
+               rejected ? cv::Scalar(0, 0, 255) : cv::Scalar(0, 200, 0), 1, cv::LINE_AA);
+    if (rejected || next >= fit.residuals_px.size()) continue;
+    cv::line(image, P(px), P(px + kResidualMagnification * fit.residuals_px[next]),
+             cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+    ++next;
   }
   std::ostringstream text;
   text << std::fixed << std::setprecision(3) << fit.name << "  RMS " << fit.rms_px << " px  tilt "

@@ -357,6 +357,7 @@ Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& v
     }
     v.residuals_px = fit.residuals_px[u];
     v.rejected_corners = static_cast<int>(rejected[c.view_index[u]].size());
+    v.rejected_indices = rejected[c.view_index[u]];
     out.max_tilt_deg = std::max(out.max_tilt_deg, v.tilt_deg);
     view_rms.push_back(v.rms_px);
     out.views.push_back(std::move(v));

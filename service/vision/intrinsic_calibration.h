@@ -46,7 +46,8 @@ struct ViewFit {
   Eigen::Matrix3d r_camera_board;  // board frame -> camera frame (metres)
   Eigen::Vector3d t_camera_board_m;
   std::vector<Eigen::Vector2d> residuals_px;  // reprojected - detected, per corner used
-  int rejected_corners = 0;  // corners left out as blunders (residual > 5 robust sigma)
+  int rejected_corners = 0;           // corners left out as blunders (residual > 5 robust sigma)
+  std::vector<int> rejected_indices;  // their indices in the view's board.pixels
 };
 
 struct ModelTrial {
