@@ -119,14 +119,17 @@ TEST_F(ServiceCommandsTest, BadCalibrationCommandsGetTypedErrors) {
 }
 
 TEST_F(ServiceCommandsTest, StatusReportsEveryCamera) {
-  // Wait until both simulated cameras stream (they open in the background).
+  // Wait until both simulated cameras stream (they open in the background) and the corner
+  // camera has finished processing a frame: fps counts frames received, latency only frames
+  // processed, and the first locate on a slow machine can outlast a status period.
   std::map<std::string, CameraStatus> by_camera;
-  for (int attempt = 0; attempt < 40; ++attempt) {
+  for (int attempt = 0; attempt < 80; ++attempt) {
     const auto status = client_->status();
     ASSERT_TRUE(status.ok()) << status.error();
     for (const auto& s : *status) by_camera[s.camera_id] = s;
     if (by_camera["floor"].state == CameraState::kStreaming &&
-        by_camera["corner"].state == CameraState::kStreaming && by_camera["corner"].fps > 0)
+        by_camera["corner"].state == CameraState::kStreaming && by_camera["corner"].fps > 0 &&
+        by_camera["corner"].latency_ms > 0)
       break;
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
   }
