@@ -7,6 +7,7 @@
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "client/cli/floor_overlay.h"
 #include "client/cli/live.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
@@ -25,7 +26,8 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 
 constexpr const char* kCalibrateHelp =
     R"(Usage: monocle floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES
-                                [--method full|paper] [--write] [--json]
+                                [--method full|paper] [--target-sigma M[@D]] [--pixel-sigma PX]
+                                [--overlay OUT.png] [--write] [--json]
        monocle floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
 
 Finds a chessboard lying on the floor in IMAGE and computes the camera's pose above the
@@ -39,9 +41,25 @@ robot's X_w, eq. 10 of Xu et al.) and roll (rad, about the optical axis).
   --method full|paper      full: all six degrees of freedom by minimising the corners'
                            reprojection error (default); paper: Xu et al. eq. (13) by
                            least squares, then eq. (15); roll is fixed at 0
-  --write                  store the result in CAL.pbtxt (atomically)
+  --target-sigma M[@D]     the accuracy you need: 1 sigma of a floor point at most M metres,
+                           D metres ahead (default 3). Says whether this calibration meets it
+                           and, if not, what to change: the board too far, too small in the
+                           image or seen too obliquely, with the 1 sigma the change would give
+  --pixel-sigma PX         noise of a measured pixel for the accuracy figures, pixels
+                           (default 0.5, as floor measure)
+  --overlay OUT.png        write a picture: corners found (green), the board reprojected
+                           through the result (blue), the horizon (orange), the robot frame's
+                           axes X_w (red) and Y_w (magenta), distances ahead (yellow)
+  --write                  store the result in CAL.pbtxt (atomically); refused when the
+                           result is ill-conditioned
   --json                   print one JSON object: height pitch yaw roll rms_px sigma{...}
-                           method corners written
+                           method corners written board accuracy[] target_* advice[]
+                           ill_conditioned explanation overlay
+
+Also printed: where the board lay, the 1 sigma of a floor point 1, 2 and 4 m straight
+ahead (and where it comes from: the calibration, its intrinsics, the measured pixel).
+A result whose 1 sigma says it carries no information (height > 25 %, pitch > 0.1 rad),
+as the paper's linear solve often is for a small board, is explained and exits with 1.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE and --calibration:
   monocle floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
@@ -104,26 +122,100 @@ void PrintFloorCalibration(const proto::FloorCalibrationOutput& out, bool json) 
     return;
   }
   const auto& sigma = out.sigma();
+  // An ill-conditioned result's sigma is no error bar: say so instead of printing +- 10 m.
+  const std::string spread = out.ill_conditioned() ? "  not determined, 1 sigma " : "  ± ";
   std::cout << std::fixed << std::setprecision(6) << "method  " << out.method() << " ("
             << out.corners() << " corners)\n"
-            << "height  " << out.height() << " m      ± " << sigma.height() << " m\n"
-            << "pitch   " << out.pitch() << " rad    ± " << sigma.pitch() << " rad  ("
+            << "height  " << out.height() << " m" << spread << sigma.height() << " m\n"
+            << "pitch   " << out.pitch() << " rad" << spread << sigma.pitch() << " rad  ("
             << std::setprecision(4) << out.pitch() * kDeg << "°)\n"
-            << std::setprecision(6) << "yaw     " << out.yaw() << " rad    ± " << sigma.yaw()
+            << std::setprecision(6) << "yaw     " << out.yaw() << " rad" << spread << sigma.yaw()
             << " rad  (" << std::setprecision(4) << out.yaw() * kDeg << "°)\n"
-            << std::setprecision(6) << "roll    " << out.roll() << " rad    ± " << sigma.roll()
+            << std::setprecision(6) << "roll    " << out.roll() << " rad" << spread << sigma.roll()
             << " rad  (" << std::setprecision(4) << out.roll() * kDeg << "°)\n"
             << std::setprecision(4) << "rms     " << out.rms_px() << " px\n";
   if (!out.camera().empty()) {
     std::cout << "camera  " << out.camera() << ", frame " << out.sequence() << ", revision "
               << out.revision() << "\n";
   }
+  if (out.has_board()) {
+    const auto& b = out.board();
+    std::cout << std::setprecision(2) << "board   " << b.distance() << " m away, " << b.depth_span()
+              << " m deep, " << std::setprecision(1) << 100 * b.image_fraction()
+              << " % of the image, seen " << std::setprecision(0) << b.sight_angle()
+              << " deg above the floor\n";
+  }
+  if (out.ill_conditioned()) std::cout << "ill-conditioned: " << out.explanation() << "\n";
+  if (out.accuracy_size() > 0) {
+    std::cout
+        << "accuracy of a floor point straight ahead, 1 sigma along its least certain direction:\n";
+    for (const auto& a : out.accuracy()) {
+      std::cout << std::setprecision(1) << "  " << std::setw(5) << a.distance() << " m  "
+                << std::setw(7) << a.sigma() * 1e3 << " mm   calibration " << a.calibration() * 1e3
+                << " mm (intrinsics " << a.intrinsics() * 1e3 << "), pixel " << a.pixel() * 1e3
+                << " mm" << (a.in_image() ? "" : "   (outside the image)") << "\n";
+    }
+  }
+  if (out.has_target_met()) {
+    std::cout << std::setprecision(1) << "target  1 sigma <= " << out.target_sigma() * 1e3
+              << " mm at " << out.target_distance()
+              << " m: " << (out.target_met() ? "met" : "NOT met") << std::setprecision(2);
+    if (out.target_met_out_to() > 0)
+      std::cout << " (met out to " << out.target_met_out_to() << " m)\n";
+    else
+      std::cout << " (met nowhere in the image)\n";
+  }
+  for (const auto& a : out.advice()) std::cout << "advice  " << a << "\n";
+  if (!out.overlay().empty()) std::cout << "overlay " << out.overlay() << "\n";
   if (!out.written().empty()) std::cout << "written to " << out.written() << "\n";
+}
+
+// "M" or "M@D": 1 sigma M metres at D metres ahead.
+Result<FloorAccuracyTarget> ParseTarget(const std::string& text) {
+  const auto at = text.find('@');
+  const auto sigma = ParseNumberList(text.substr(0, at));
+  const auto distance = at == std::string::npos
+                            ? std::optional<std::vector<double>>(std::vector<double>{3.0})
+                            : ParseNumberList(text.substr(at + 1));
+  if (!sigma || sigma->size() != 1 || !((*sigma)[0] > 0) || !distance || distance->size() != 1 ||
+      !((*distance)[0] > 0)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--target-sigma '" + text +
+                         "' is not M or M@D (metres > 0, e.g. 0.01@4: 1 cm at 4 m ahead)");
+  }
+  return FloorAccuracyTarget{(*sigma)[0], (*distance)[0]};
+}
+
+void AddGuidance(const FloorGuidance& g, proto::FloorCalibrationOutput* out) {
+  out->set_ill_conditioned(g.ill_conditioned);
+  out->set_explanation(g.ill_conditioned_reason);
+  auto* b = out->mutable_board();
+  b->set_distance(g.board.distance_m);
+  b->set_depth_span(g.board.depth_span_m);
+  b->set_image_fraction(g.board.image_fraction);
+  b->set_sight_angle(g.board.sight_angle_deg);
+  for (const auto& a : g.accuracy) {
+    auto* o = out->add_accuracy();
+    o->set_distance(a.distance_m);
+    o->set_in_image(a.in_image);
+    o->set_sigma(a.sigma_m);
+    o->set_calibration(a.calibration_sigma_m);
+    o->set_intrinsics(a.intrinsics_sigma_m);
+    o->set_pixel(a.pixel_sigma_m);
+  }
+  if (g.target && !g.ill_conditioned) {
+    out->set_target_sigma(g.target->sigma_m);
+    out->set_target_distance(g.target->distance_m);
+    out->set_target_met(g.target_met);
+    out->set_target_met_out_to(g.target_met_out_to_m);
+  }
+  for (const auto& a : g.advice) out->add_advice(a);
 }
 
 // The service calibrates its camera from the camera's next frame, stores and publishes it.
 int CalibrateLive(const Args& args, const BoardSpec& spec) {
-  for (const char* offline : {"--calibration", "--method", "--write"}) {
+  for (const char* offline :
+       {"--calibration", "--method", "--write", "--overlay", "--target-sigma", "--pixel-sigma"}) {
     if (args.Has(offline) || args.Get(offline))
       return Fail(std::string(offline) +
                       " is for images; with --camera the service calibrates "
@@ -163,9 +255,10 @@ int Calibrate(const std::vector<std::string>& argv) {
     std::cout << kCalibrateHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--calibration", "--board", "--square", "--method", "--camera",
-                                  "--domain", "--timeout"},
-                                 {"--write", "--json"}});
+  auto args =
+      Args::Parse(argv, {{"--calibration", "--board", "--square", "--method", "--camera",
+                          "--domain", "--timeout", "--overlay", "--target-sigma", "--pixel-sigma"},
+                         {"--write", "--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
@@ -180,6 +273,15 @@ int Calibrate(const std::vector<std::string>& argv) {
   }
   const auto method =
       method_text == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
+  std::optional<FloorAccuracyTarget> target;
+  if (const auto text = args->Get("--target-sigma")) {
+    auto parsed = ParseTarget(*text);
+    if (!parsed) return Fail(parsed.error(), kExitUsage);
+    target = *parsed;
+  }
+  const auto pixel_sigma = args->GetDouble("--pixel-sigma", kDefaultPixelSigmaPx);
+  if (!pixel_sigma || *pixel_sigma < 0)
+    return Fail("--pixel-sigma must be a number of pixels >= 0", kExitUsage);
 
   auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
@@ -190,9 +292,19 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (!calibrated) return Fail(calibrated.error(), kExitFailure);
   const FloorCalibration* result = &calibrated->calibration;
   const size_t corners = calibrated->corners;
+  const FloorGuidance guidance =
+      AdviseFloorCalibration(calibration->intrinsics, calibration->intrinsics_covariance, *result,
+                             calibrated->board, *pixel_sigma, target);
 
+  std::string overlay;
+  if (const auto path = args->Get("--overlay")) {
+    const auto w = WriteImage(*path, DrawFloorOverlay(*image, calibration->intrinsics, *result,
+                                                      calibrated->board, guidance));
+    if (!w) return Fail(w.error(), kExitFailure);
+    overlay = *path;
+  }
   std::string written;
-  if (args->Has("--write")) {
+  if (args->Has("--write") && !guidance.ill_conditioned) {
     CameraCalibration updated = *calibration;
     updated.floor = *result;
     const auto saved = SaveCalibrationFileAtomically(*cal_path, updated);
@@ -213,7 +325,15 @@ int Calibrate(const std::vector<std::string>& argv) {
   out.mutable_sigma()->set_pitch(sigma[1]);
   out.mutable_sigma()->set_yaw(sigma[2]);
   out.mutable_sigma()->set_roll(sigma[3]);
+  out.set_overlay(overlay);
+  AddGuidance(guidance, &out);
   PrintFloorCalibration(out, args->Has("--json"));
+  if (guidance.ill_conditioned) {
+    return Fail(std::string("no usable floor calibration") +
+                    (args->Has("--write") ? "; " + *cal_path + " left unchanged" : "") +
+                    " (ill-conditioned, see above)",
+                kExitFailure);
+  }
   return kExitOk;
 }
 

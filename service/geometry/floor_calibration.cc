@@ -149,6 +149,29 @@ void AddIntrinsicsUncertainty(const Eigen::Matrix<double, 4, kNumIntrinsicParams
   out->covariance += out->intrinsics_cross_covariance * d_pose_d_k.transpose();
 }
 
+// The full method's result at parameters q, from the fit's Jacobian `jq` (residuals x 6) and
+// the corners' share of the covariance `cov6` (6 x 6, order of q).
+void FillFullCalibration(const CameraIntrinsics& k, const BoardObservation& board,
+                         const Eigen::VectorXd& q, const Eigen::MatrixXd& jq,
+                         const Eigen::MatrixXd& cov6, const IntrinsicsCovariance& k_covariance,
+                         FloorCalibration* out) {
+  out->method = FloorCalibrationMethod::kFull;
+  out->pose = PoseFromParams(q);
+  out->board_origin_robot_m = q.tail<2>();
+  // Parameter order in q: h, pitch, roll, yaw; output order: h, pitch, yaw, roll.
+  const int order[4] = {0, 1, 3, 2};
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) out->covariance(a, b) = cov6(order[a], order[b]);
+  // Sensitivity of the optimum to the intrinsics (6 x 9), then in output order.
+  const Eigen::MatrixXd d_q_d_k =
+      -(jq.transpose() * jq)
+           .ldlt()
+           .solve(jq.transpose() * ResidualJacobianWrtIntrinsics(k, board, q));
+  Eigen::Matrix<double, 4, kNumIntrinsicParams> d_pose_d_k;
+  for (int a = 0; a < 4; ++a) d_pose_d_k.row(a) = d_q_d_k.row(order[a]);
+  AddIntrinsicsUncertainty(d_pose_d_k, k_covariance, out);
+}
+
 Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObservation& board,
                                        const std::vector<Eigen::Vector2d>& normalized,
                                        const IntrinsicsCovariance& k_covariance) {
@@ -177,28 +200,14 @@ Result<FloorCalibration> CalibrateFull(const CameraIntrinsics& k, const BoardObs
                      "the board pose is degenerate: the corners do not constrain height and pitch");
   }
   FloorCalibration out;
-  out.method = FloorCalibrationMethod::kFull;
-  out.pose = PoseFromParams(q);
-  out.board_origin_robot_m = q.tail<2>();
   out.rms_px = RmsPx(summary.residuals);
-  // Parameter order in q: h, pitch, roll, yaw; output order: h, pitch, yaw, roll.
-  const int order[4] = {0, 1, 3, 2};
-  for (int a = 0; a < 4; ++a)
-    for (int b = 0; b < 4; ++b) out.covariance(a, b) = cov6(order[a], order[b]);
-  // Sensitivity of the optimum to the intrinsics (6 x 9), then in output order.
-  const Eigen::MatrixXd& jq = summary.jacobian;
-  const Eigen::MatrixXd d_q_d_k =
-      -(jq.transpose() * jq)
-           .ldlt()
-           .solve(jq.transpose() * ResidualJacobianWrtIntrinsics(k, board, q));
-  Eigen::Matrix<double, 4, kNumIntrinsicParams> d_pose_d_k;
-  for (int a = 0; a < 4; ++a) d_pose_d_k.row(a) = d_q_d_k.row(order[a]);
-  AddIntrinsicsUncertainty(d_pose_d_k, k_covariance, &out);
+  FillFullCalibration(k, board, q, summary.jacobian, cov6, k_covariance, &out);
   return out;
 }
 
 struct PaperEstimate {
   double height, pitch, yaw;
+  double condition;  // of eq. (13)'s least-squares system, columns scaled to unit length
 };
 
 // Xu et al. section 3: eq. (13) over every pair of corners in a column,
@@ -231,6 +240,10 @@ std::optional<PaperEstimate> EstimatePaper(const BoardObservation& board,
     b[r] = rhs[r];
   }
   const Eigen::Vector3d sol = a.colPivHouseholderQr().solve(b);
+  // Scaled so that the number reflects the geometry, not the units of the unknowns.
+  const Eigen::MatrixXd a_scaled = a * a.colwise().norm().cwiseInverse().asDiagonal();
+  const Eigen::Vector3d singular = Eigen::JacobiSVD<Eigen::MatrixXd>(a_scaled).singularValues();
+  const double condition = singular[0] / std::max(singular[2], 1e-300);
   if (!sol.allFinite()) return std::nullopt;
   double pitch = 0.5 * std::atan2(sol[0], sol[1]);
   if (pitch < 0) pitch += std::numbers::pi;  // theta in [0, pi)
@@ -254,7 +267,7 @@ std::optional<PaperEstimate> EstimatePaper(const BoardObservation& board,
   }
   if (!(den > 0)) return std::nullopt;
   const double yaw = std::atan(num / den);
-  return PaperEstimate{h_over_cos_alpha * std::cos(yaw), pitch, yaw};
+  return PaperEstimate{h_over_cos_alpha * std::cos(yaw), pitch, yaw, condition};
 }
 
 Result<FloorCalibration> CalibratePaper(const CameraIntrinsics& k, const BoardObservation& board,
@@ -269,6 +282,7 @@ Result<FloorCalibration> CalibratePaper(const CameraIntrinsics& k, const BoardOb
   FloorCalibration out;
   out.method = FloorCalibrationMethod::kPaper;
   out.pose = FloorPose{estimate->height, estimate->pitch, estimate->yaw, 0.0};
+  out.condition_number = estimate->condition;
 
   // The paper does not estimate the board's position; fit it (t_x, t_y only) so that a
   // reprojection error can be reported on the same footing as the full method.
@@ -386,6 +400,42 @@ Result<FloorCalibration> CalibrateFloor(const CameraIntrinsics& k, const BoardOb
   return method == FloorCalibrationMethod::kFull
              ? CalibrateFull(k, board, *normalized, k_covariance)
              : CalibratePaper(k, board, *normalized, k_covariance);
+}
+
+Result<FloorCalibration> PredictFloorCalibration(const CameraIntrinsics& k, const FloorPose& pose,
+                                                 const Eigen::Vector2d& board_origin_robot_m,
+                                                 int cols, int rows, double square_m,
+                                                 double corner_sigma_px,
+                                                 const IntrinsicsCovariance& k_covariance) {
+  const auto board = ProjectBoard(k, pose, board_origin_robot_m, cols, rows, square_m);
+  if (!board) return board.error();
+  Eigen::VectorXd q(kNumParams);
+  q << pose.height_m, pose.pitch_rad, pose.roll_rad, pose.yaw_rad, board_origin_robot_m.x(),
+      board_origin_robot_m.y();
+  const int m = 2 * static_cast<int>(board->pixels.size());
+  // The fit's Jacobian at the truth, by the same central differences the solver uses.
+  Eigen::MatrixXd jq(m, kNumParams);
+  Eigen::VectorXd plus(m), minus(m);
+  for (int p = 0; p < kNumParams; ++p) {
+    const double step = 1e-6 * std::max(1.0, std::abs(q[p]));
+    Eigen::VectorXd qp = q, qm = q;
+    qp[p] += step;
+    qm[p] -= step;
+    if (!BoardResiduals(k, *board, qp, &plus) || !BoardResiduals(k, *board, qm, &minus))
+      return MakeError(ErrorCode::kOutOfRange, "a board corner is behind the camera");
+    jq.col(p) = (plus - minus) / (2 * step);
+  }
+  const Eigen::MatrixXd info = jq.transpose() * jq;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(info);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) {
+    return MakeError(ErrorCode::kDegenerate, "this board placement does not constrain the pose");
+  }
+  const Eigen::MatrixXd cov6 = corner_sigma_px * corner_sigma_px *
+                               ldlt.solve(Eigen::MatrixXd::Identity(kNumParams, kNumParams));
+  FloorCalibration out;
+  out.rms_px = std::sqrt(2.0) * corner_sigma_px;
+  FillFullCalibration(k, *board, q, jq, cov6, k_covariance, &out);
+  return out;
 }
 
 MeasurementNoise MeasurementNoiseOf(const FloorCalibration& floor,

@@ -46,6 +46,10 @@ struct FloorCalibration {
   Eigen::Vector2d board_origin_robot_m = Eigen::Vector2d::Zero();  // (t_x, t_y) of eq. 10
   double rms_px = 0;  // RMS distance between observed and reprojected corners
   FloorCalibrationMethod method = FloorCalibrationMethod::kFull;
+  // Paper method only: condition number of eq. (13)'s least-squares system with its columns
+  // scaled to unit length (0 for the full method). Large when the board's columns show too
+  // little perspective for the linear solve; see floor_guidance.h.
+  double condition_number = 0;
 
   Eigen::Vector4d Sigma() const { return covariance.diagonal().cwiseSqrt(); }
 };
@@ -59,6 +63,14 @@ std::ostream& operator<<(std::ostream& os, const FloorCalibration& c);
 // cross-covariance the measurement needs.
 Result<FloorCalibration> CalibrateFloor(
     const CameraIntrinsics& k, const BoardObservation& board, FloorCalibrationMethod method,
+    const IntrinsicsCovariance& k_covariance = IntrinsicsCovariance::Zero());
+
+// What the full method would report for a board (cols x rows, square) lying at
+// `board_origin_robot_m` with the calibration's yaw, seen by a camera at `pose`, whose corners
+// are found with `corner_sigma_px` of noise per coordinate: for planning where to lay a board.
+Result<FloorCalibration> PredictFloorCalibration(
+    const CameraIntrinsics& k, const FloorPose& pose, const Eigen::Vector2d& board_origin_robot_m,
+    int cols, int rows, double square_m, double corner_sigma_px,
     const IntrinsicsCovariance& k_covariance = IntrinsicsCovariance::Zero());
 
 // Everything a floor measurement's 1 sigma stands on: this calibration, the intrinsics'

@@ -24,7 +24,7 @@ Result<FloorCalibrationFromImage> CalibrateFloorFromImage(
                      "the calibration gave an impossible pose (height <= 0 or pitch outside (0, "
                      "pi)); the board is probably not on the floor in view");
   }
-  return FloorCalibrationFromImage{*result, board->pixels.size()};
+  return FloorCalibrationFromImage{*result, board->pixels.size(), *board};
 }
 
 }  // namespace monocle

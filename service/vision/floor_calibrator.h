@@ -12,7 +12,8 @@ namespace monocle {
 
 struct FloorCalibrationFromImage {
   FloorCalibration calibration;
-  size_t corners = 0;  // board corners used
+  size_t corners = 0;      // board corners used
+  BoardObservation board;  // the corners found, for overlays and guidance
 };
 
 Result<FloorCalibrationFromImage> CalibrateFloorFromImage(
