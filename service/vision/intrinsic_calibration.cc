@@ -52,13 +52,18 @@ Correspondences Collect(const std::vector<IntrinsicView>& views, const std::vect
 }
 
 int CalibrationFlags(DistortionModel model) {
+  // Each Levenberg-Marquardt step solves the normal equations (intrinsics plus 6 per view);
+  // OpenCV's default SVD of them cost 3x the whole fit's time on 30 views. LU of the damped,
+  // positive definite system reaches the same optimum (intrinsic_calibration_test checks it
+  // against OpenCV's default to 1/1000 sigma): 1.0 s -> 0.14 s, bench/intrinsics_bench.
+  const int solver = cv::CALIB_USE_LU;
   switch (model) {
     case DistortionModel::kK1K2:
-      return cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
+      return solver | cv::CALIB_FIX_K3 | cv::CALIB_ZERO_TANGENT_DIST;
     case DistortionModel::kK1K2P1P2:
-      return cv::CALIB_FIX_K3;
+      return solver | cv::CALIB_FIX_K3;
     default:
-      return 0;
+      return solver;
   }
 }
 
