@@ -1,5 +1,6 @@
 // monocled: the measurement service. Reads its configuration, starts its cameras and serves
 // poses, calibrations, status and requests over Cyclone DDS until SIGINT or SIGTERM.
+#include <malloc.h>
 #include <signal.h>
 
 #include <cstdlib>
@@ -49,6 +50,10 @@ int Usage(const std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Every frame's working images are a megabyte or more: keep them in the heap for reuse
+  // instead of mmap'ing and unmapping them per frame (page faults on every frame).
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   std::string config_path, state_dir = DefaultStateDir();
   std::optional<int> domain;
   for (int i = 1; i < argc; ++i) {
