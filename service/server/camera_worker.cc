@@ -25,9 +25,11 @@ uint64_t MissingBetween(uint64_t previous, uint64_t current) {
 }  // namespace
 
 CameraWorker::CameraWorker(CameraSetup setup, CameraCalibration calibration,
-                           OnProcessed on_processed, OnStateChange on_state_change)
+                           OnProcessed on_processed, OnStateChange on_state_change,
+                           OnFrame on_frame)
     : setup_(std::move(setup)),
       on_processed_(std::move(on_processed)),
+      on_frame_(std::move(on_frame)),
       on_state_change_(std::move(on_state_change)),
       calibration_(std::move(calibration)) {}
 
@@ -91,6 +93,7 @@ void CameraWorker::Acquire() {
     frame->grey = frame->grey.clone();
     frame->keepalive.reset();
     frame->camera_id = setup_.id;
+    if (on_frame_) on_frame_(*frame);
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_.frames;
     ++period_frames_;

@@ -49,9 +49,11 @@ class CameraWorker {
   using OnProcessed = std::function<void(const ProcessedFrame&)>;
   // Called when the camera's state changes (lost, back, stopped).
   using OnStateChange = std::function<void()>;
+  // Called on the acquisition thread with every frame received (its own copy of the pixels).
+  using OnFrame = std::function<void(const Frame&)>;
 
   CameraWorker(CameraSetup setup, CameraCalibration calibration, OnProcessed on_processed,
-               OnStateChange on_state_change);
+               OnStateChange on_state_change, OnFrame on_frame = {});
   ~CameraWorker();
   CameraWorker(const CameraWorker&) = delete;
   CameraWorker& operator=(const CameraWorker&) = delete;
@@ -74,6 +76,7 @@ class CameraWorker {
 
   const CameraSetup setup_;
   const OnProcessed on_processed_;
+  const OnFrame on_frame_;
   const OnStateChange on_state_change_;
 
   mutable std::mutex mutex_;  // guards everything below

@@ -127,6 +127,12 @@ class Endpoint {
     return false;
   }
 
+  // Whether a reader matches this endpoint's writer now (e.g. publish images only then).
+  bool HasReaders() const {
+    dds_publication_matched_status_t st{};
+    return dds_get_publication_matched_status(writer_.get(), &st) >= 0 && st.current_count > 0;
+  }
+
   // Forgets an instance (e.g. an old reply) so kept history does not grow without bound.
   void Unregister(const T& key_holder) { dds_unregister_instance(writer_.get(), &key_holder); }
 

@@ -124,6 +124,10 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup) {
   s->floor_replies_ = std::make_unique<dds::ReplyPublisher<monocle_dds_FloorCalibrationReply>>(
       std::move(floor_rep).value());
 
+  auto ros = RosTopics::Open(p, setup.cameras);
+  if (!ros) return ros.error();
+  s->ros_ = std::move(ros).value();
+
   Service* self = s.get();
   for (const auto& cam : setup.cameras) {
     self->workers_.push_back(std::make_unique<CameraWorker>(
@@ -131,7 +135,8 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup) {
         [self, id = cam.id](const ProcessedFrame& f) { self->OnProcessed(id, f); },
         [self, id = cam.id] {
           if (auto* w = self->Find(id)) self->PublishStatusOf(*w, false);
-        }));
+        },
+        [self, cam](const Frame& frame) { self->ros_->PublishImage(cam, frame); }));
   }
   for (const auto& cam : setup.cameras) s->PublishCalibration(cam.id, calibrations[cam.id]);
   for (auto& w : s->workers_) w->Start();
@@ -166,6 +171,7 @@ void Service::OnProcessed(const std::string& camera_id, const ProcessedFrame& fr
   dds::ToSample(camera_id, frame.sequence, frame.capture_time_ns, frame.camera_clock, frame.corner,
                 frame.processing_ns, &sample, &error);
   if (auto s = poses_->Write(sample); !s) std::cerr << "monocled: " << s.error() << "\n";
+  if (const auto* w = Find(camera_id)) ros_->PublishPose(w->setup(), frame);
   std::vector<PendingPose> waiting;
   {
     std::lock_guard<std::mutex> lock(pose_mutex_);
@@ -183,10 +189,18 @@ void Service::OnProcessed(const std::string& camera_id, const ProcessedFrame& fr
 }
 
 void Service::PublishStatus() {
-  for (auto& w : workers_) PublishStatusOf(*w, true);
+  std::vector<std::pair<const CameraSetup*, WorkerStatus>> statuses;
+  for (auto& w : workers_) statuses.emplace_back(&w->setup(), PublishStatusOf(*w, true));
+  const int64_t now_ns = UnixNowNs();
+  ros_->PublishDiagnostics(statuses, now_ns);
+  std::lock_guard<std::mutex> lock(ros_intrinsics_mutex_);
+  for (auto& w : workers_) {
+    if (const auto it = ros_intrinsics_.find(w->setup().id); it != ros_intrinsics_.end())
+      ros_->PublishCameraInfo(w->setup(), it->second, now_ns);
+  }
 }
 
-void Service::PublishStatusOf(CameraWorker& worker, bool new_period) {
+WorkerStatus Service::PublishStatusOf(CameraWorker& worker, bool new_period) {
   const WorkerStatus st = worker.Snapshot(new_period);
   const auto& setup = worker.setup();
   monocle_dds_CameraStatus out{};
@@ -204,9 +218,14 @@ void Service::PublishStatusOf(CameraWorker& worker, bool new_period) {
   out.stamp_ns = UnixNowNs();
   std::lock_guard<std::mutex> lock(status_mutex_);
   if (auto s = status_->Write(out); !s) std::cerr << "monocled: " << s.error() << "\n";
+  return st;
 }
 
 void Service::PublishCalibration(const std::string& camera_id, const CameraCalibration& cal) {
+  {
+    std::lock_guard<std::mutex> lock(ros_intrinsics_mutex_);
+    ros_intrinsics_[camera_id] = cal.intrinsics;
+  }
   const CameraSetup* setup = nullptr;
   for (const auto& c : setup_.cameras) {
     if (c.id == camera_id) setup = &c;

@@ -17,6 +17,7 @@
 #include "service/server/camera_worker.h"
 #include "service/server/dds.h"
 #include "service/server/reply_publisher.h"
+#include "service/server/ros_topics.h"
 #include "service/server/service_config.h"
 
 namespace monocle {
@@ -44,7 +45,7 @@ class Service {
 
   Service() = default;
   void OnProcessed(const std::string& camera_id, const ProcessedFrame& frame);
-  void PublishStatusOf(CameraWorker& worker, bool new_period);
+  WorkerStatus PublishStatusOf(CameraWorker& worker, bool new_period);  // and returns it
   void PublishCalibration(const std::string& camera_id, const CameraCalibration& calibration);
   void ServePointRequests();
   void ServePoseRequests();
@@ -65,6 +66,11 @@ class Service {
   std::unique_ptr<dds::ReplyPublisher<monocle_dds_PoseReply>> pose_replies_;
   std::unique_ptr<dds::Endpoint<monocle_dds_FloorCalibrationRequest>> floor_requests_;
   std::unique_ptr<dds::ReplyPublisher<monocle_dds_FloorCalibrationReply>> floor_replies_;
+
+  // The same measurements in ROS 2's terms (ros_topics.h).
+  std::unique_ptr<RosTopics> ros_;
+  std::mutex ros_intrinsics_mutex_;
+  std::map<std::string, CameraIntrinsics> ros_intrinsics_;  // for camera_info, by camera
 
   std::vector<std::unique_ptr<CameraWorker>> workers_;
 

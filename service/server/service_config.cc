@@ -1,5 +1,7 @@
 #include "service/server/service_config.h"
 
+#include <cctype>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -144,8 +146,35 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
       cam.stall_timeout =
           std::chrono::milliseconds(static_cast<int64_t>(c.stall_timeout_s() * 1000));
     }
+    cam.ros_namespace =
+        c.ros_namespace().empty() ? "/monocle/" + RosNameToken(cam.id) : c.ros_namespace();
+    while (cam.ros_namespace.size() > 1 && cam.ros_namespace.back() == '/')
+      cam.ros_namespace.pop_back();
+    if (cam.ros_namespace.front() != '/') cam.ros_namespace = "/" + cam.ros_namespace;
+    for (size_t k = 1; k < cam.ros_namespace.size(); ++k) {
+      const char ch = cam.ros_namespace[k];
+      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '/') ||
+          (ch == '/' && cam.ros_namespace[k - 1] == '/'))
+        return errors.Camera(i, "ros_namespace",
+                             "'" + c.ros_namespace() +
+                                 "' is not a ROS 2 namespace (letters, digits, _ and single /)");
+    }
+    cam.ros_parent_frame = c.ros_parent_frame().empty() ? "corner" : c.ros_parent_frame();
+    cam.ros_frame = cam.ros_namespace.substr(cam.ros_namespace.find_last_of('/') + 1) + "_optical";
+    if (c.has_image_max_rate_hz()) {
+      if (!(c.image_max_rate_hz() > 0 && c.image_max_rate_hz() <= 1000))
+        return errors.Camera(i, "image_max_rate_hz", "must be 0..1000 Hz");
+      cam.image_max_rate_hz = c.image_max_rate_hz();
+    }
     out.cameras.push_back(std::move(cam));
   }
+  return out;
+}
+
+std::string RosNameToken(const std::string& name) {
+  std::string out;
+  for (const char ch : name) out += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out.front()))) out = "_" + out;
   return out;
 }
 

@@ -16,6 +16,10 @@ enum class CameraRole { kCorner, kFloor, kCornerAndFloor };
 
 const char* ToString(CameraRole role);  // "corner", "floor", "corner+floor"
 
+// `name` with every character a ROS 2 name does not allow (only A-Z a-z 0-9 _) turned into _,
+// and a leading digit prefixed with _: "sim-corner" -> "sim_corner".
+std::string RosNameToken(const std::string& name);
+
 struct CameraSetup {
   std::string id;         // name on DDS and in requests
   AravisOptions options;  // device and GenICam settings
@@ -23,6 +27,11 @@ struct CameraSetup {
   std::string calibration_path;              // resolved against the config's directory
   std::optional<double> ceiling_distance_m;  // overrides the calibration file's
   std::chrono::milliseconds stall_timeout{1000};
+  // ROS 2 names (see idl/service_config.proto): the namespace starts with '/', no trailing '/'.
+  std::string ros_namespace;     // e.g. /monocle/sim_corner
+  std::string ros_parent_frame;  // frame the pose and tf are given in, e.g. corner
+  std::string ros_frame;         // the camera's optical frame, e.g. sim_corner_optical
+  double image_max_rate_hz = 5;
 
   bool corner() const { return role != CameraRole::kFloor; }
   bool floor() const { return role != CameraRole::kCorner; }

@@ -18,6 +18,11 @@ TEST(ServiceConfigTest, EmbeddedDefaultHasBothSimulatedCameras) {
   EXPECT_EQ(setup->cameras[0].calibration_path, "/state/sim-corner.pbtxt");
   EXPECT_EQ(setup->cameras[1].options.device, "sim-floor");
   EXPECT_EQ(setup->cameras[1].role, CameraRole::kFloor);
+  // ROS 2 names: '-' is not allowed in them.
+  EXPECT_EQ(setup->cameras[0].ros_namespace, "/monocle/sim_corner");
+  EXPECT_EQ(setup->cameras[0].ros_frame, "sim_corner_optical");
+  EXPECT_EQ(setup->cameras[0].ros_parent_frame, "corner");
+  EXPECT_EQ(setup->cameras[1].ros_namespace, "/monocle/sim_floor");
 }
 
 TEST(ServiceConfigTest, ReadsEveryCameraSetting) {
@@ -37,6 +42,9 @@ camera {
   packet_size_bytes: 8000
   feature { name: "BalanceWhiteAuto" value: "Off" }
   stall_timeout_s: 2
+  ros_namespace: "robot1/front/"
+  ros_parent_frame: "map"
+  image_max_rate_hz: 2
 }
 )",
                                         "cfg", "/base");
@@ -54,6 +62,10 @@ camera {
   ASSERT_EQ(c.options.features.size(), 1u);
   EXPECT_EQ(c.options.features[0].second, "Off");
   EXPECT_EQ(c.stall_timeout.count(), 2000);
+  EXPECT_EQ(c.ros_namespace, "/robot1/front");  // made absolute, trailing / dropped
+  EXPECT_EQ(c.ros_frame, "front_optical");
+  EXPECT_EQ(c.ros_parent_frame, "map");
+  EXPECT_DOUBLE_EQ(c.image_max_rate_hz, 2);
 }
 
 // Each broken file is rejected with its line and the field at fault.
@@ -77,6 +89,11 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
       {"camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n  exposure_us: -1\n}\n",
        "cfg: line 5: camera[0].exposure_us must be > 0"},
       {"domain: 1\n", "no camera"},
+      {"camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n"
+       "  ros_namespace: \"/robot one\"\n}\n",
+       "cfg: line 5: camera[0].ros_namespace '/robot one' is not a ROS 2 namespace"},
+      {"camera { device: \"a\" role: CORNER calibration: \"y\" image_max_rate_hz: 0 }\n",
+       "camera[0].image_max_rate_hz must be"},
   };
   for (const auto& c : cases) {
     const auto setup = ParseServiceConfig(c.text, "cfg", "");

@@ -1,0 +1,208 @@
+#include "service/server/ros_topics.h"
+
+#include <cstring>
+#include <iostream>
+
+#include "service/geometry/pose_covariance.h"
+
+namespace monocle {
+namespace {
+
+// ROS 2's default QoS (rmw_qos_profile_default): reliable, volatile, keep-last 10. A reliable
+// writer reaches both reliable and best-effort readers; a volatile one does not match a
+// transient-local reader, which ROS's default is not.
+constexpr dds::EndpointQos kRosDefaultQos{10, false};
+
+char* Chars(const std::string& s) { return const_cast<char*>(s.c_str()); }
+
+builtin_interfaces_msg_dds__Time_ RosTime(int64_t unix_ns) {
+  builtin_interfaces_msg_dds__Time_ t{};
+  t.sec = static_cast<int32_t>(unix_ns / 1'000'000'000);
+  t.nanosec = static_cast<uint32_t>(unix_ns % 1'000'000'000);
+  return t;
+}
+
+template <typename T>
+Result<std::unique_ptr<dds::Endpoint<T>>> OpenWriter(const std::shared_ptr<dds::Entity>& p,
+                                                     const dds_topic_descriptor_t* type,
+                                                     const std::string& topic) {
+  auto ep = dds::Endpoint<T>::Open(p, type, topic.c_str(), true, false, kRosDefaultQos);
+  if (!ep) return ep.error();
+  return std::make_unique<dds::Endpoint<T>>(std::move(ep).value());
+}
+
+void Report(const Status& s) {
+  if (!s) std::cerr << "monocled: ROS 2 topic: " << s.error() << "\n";
+}
+
+}  // namespace
+
+std::string RosTopics::WireTopic(const CameraSetup& camera, const std::string& leaf) {
+  return "rt" + camera.ros_namespace + "/" + leaf;
+}
+
+Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::Entity>& p,
+                                                   const std::vector<CameraSetup>& cameras) {
+  std::unique_ptr<RosTopics> r(new RosTopics());
+  for (const auto& cam : cameras) {
+    PerCamera& c = r->cameras_[cam.id];
+    if (cam.corner()) {
+      auto pose = OpenWriter<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>(
+          p, &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, WireTopic(cam, "pose"));
+      if (!pose) return pose.error();
+      c.pose = std::move(pose).value();
+    }
+    auto info = OpenWriter<sensor_msgs_msg_dds__CameraInfo_>(
+        p, &sensor_msgs_msg_dds__CameraInfo__desc, WireTopic(cam, "camera_info"));
+    if (!info) return info.error();
+    c.camera_info = std::move(info).value();
+    auto image = OpenWriter<sensor_msgs_msg_dds__Image_>(p, &sensor_msgs_msg_dds__Image__desc,
+                                                         WireTopic(cam, "image_raw"));
+    if (!image) return image.error();
+    c.image = std::move(image).value();
+  }
+  auto tf =
+      OpenWriter<tf2_msgs_msg_dds__TFMessage_>(p, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf");
+  if (!tf) return tf.error();
+  r->tf_ = std::move(tf).value();
+  auto diagnostics = OpenWriter<diagnostic_msgs_msg_dds__DiagnosticArray_>(
+      p, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics");
+  if (!diagnostics) return diagnostics.error();
+  r->diagnostics_ = std::move(diagnostics).value();
+  return r;
+}
+
+void RosTopics::PublishPose(const CameraSetup& camera, const ProcessedFrame& frame) {
+  const auto it = cameras_.find(camera.id);
+  // A suspect pose is published on monocle's own topic with its reason; a ROS consumer
+  // fusing poses cannot see that flag, so it is not given one.
+  if (it == cameras_.end() || !it->second.pose || !frame.corner || frame.corner->suspect) return;
+  const CornerLocation& c = *frame.corner;
+  const Eigen::Vector3d position = CameraPosition(c.pose);
+  const Eigen::Matrix<double, 6, 6> covariance = RosPoseCovariance(c.pose, c.covariance);
+
+  geometry_msgs_msg_dds__PoseWithCovarianceStamped_ pose{};
+  pose.header.stamp = RosTime(frame.capture_time_ns);
+  pose.header.frame_id = Chars(camera.ros_parent_frame);
+  pose.pose.pose.position = {position.x(), position.y(), position.z()};
+  pose.pose.pose.orientation = {c.q_corner_camera.x(), c.q_corner_camera.y(), c.q_corner_camera.z(),
+                                c.q_corner_camera.w()};
+  for (int i = 0; i < 36; ++i) pose.pose.covariance[i] = covariance(i / 6, i % 6);
+  Report(it->second.pose->Write(pose));
+
+  geometry_msgs_msg_dds__TransformStamped_ transform{};
+  transform.header = pose.header;
+  transform.child_frame_id = Chars(camera.ros_frame);
+  transform.transform.translation = {position.x(), position.y(), position.z()};
+  transform.transform.rotation = pose.pose.pose.orientation;
+  tf2_msgs_msg_dds__TFMessage_ tf{};
+  tf.transforms._buffer = &transform;
+  tf.transforms._length = tf.transforms._maximum = 1;
+  tf.transforms._release = false;
+  Report(tf_->Write(tf));
+}
+
+void RosTopics::PublishImage(const CameraSetup& camera, const Frame& frame) {
+  const auto it = cameras_.find(camera.id);
+  if (it == cameras_.end() || frame.grey.empty() || frame.grey.type() != CV_8UC1) return;
+  PerCamera& c = it->second;
+  // Nobody looking costs one matched-status read per frame: no copy, no write.
+  if (!c.image->HasReaders()) return;
+  {
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard<std::mutex> lock(image_mutex_);
+    if (now - c.last_image < std::chrono::duration<double>(1.0 / camera.image_max_rate_hz)) return;
+    c.last_image = now;
+  }
+  // The sample points into the frame's own rows when they are contiguous (no copy here;
+  // Cyclone serialises it during the write).
+  cv::Mat pixels = frame.grey.isContinuous() ? frame.grey : frame.grey.clone();
+  sensor_msgs_msg_dds__Image_ image{};
+  image.header.stamp = RosTime(frame.capture_time_ns);
+  image.header.frame_id = Chars(camera.ros_frame);
+  image.height = static_cast<uint32_t>(pixels.rows);
+  image.width = static_cast<uint32_t>(pixels.cols);
+  static const char kMono8[] = "mono8";
+  image.encoding = const_cast<char*>(kMono8);
+  image.is_bigendian = 0;
+  image.step = static_cast<uint32_t>(pixels.cols);
+  image.data._buffer = pixels.data;
+  image.data._length = image.data._maximum = static_cast<uint32_t>(pixels.total());
+  image.data._release = false;
+  Report(c.image->Write(image));
+}
+
+void RosTopics::PublishCameraInfo(const CameraSetup& camera, const CameraIntrinsics& k,
+                                  int64_t stamp_ns) {
+  const auto it = cameras_.find(camera.id);
+  if (it == cameras_.end()) return;
+  sensor_msgs_msg_dds__CameraInfo_ info{};
+  info.header.stamp = RosTime(stamp_ns);
+  info.header.frame_id = Chars(camera.ros_frame);
+  info.height = static_cast<uint32_t>(k.height_px);
+  info.width = static_cast<uint32_t>(k.width_px);
+  static const char kPlumbBob[] = "plumb_bob";
+  info.distortion_model = const_cast<char*>(kPlumbBob);
+  // plumb_bob is OpenCV's k1 k2 p1 p2 k3.
+  double d[5];
+  for (int i = 0; i < 5; ++i) d[i] = k.distortion[i];
+  info.d._buffer = d;
+  info.d._length = info.d._maximum = 5;
+  info.d._release = false;
+  const double kk[9] = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
+  std::memcpy(info.k, kk, sizeof kk);
+  const double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::memcpy(info.r, r, sizeof r);
+  const double p[12] = {k.fx, 0, k.cx, 0, 0, k.fy, k.cy, 0, 0, 0, 1, 0};
+  std::memcpy(info.p, p, sizeof p);
+  Report(it->second.camera_info->Write(info));
+}
+
+void RosTopics::PublishDiagnostics(
+    const std::vector<std::pair<const CameraSetup*, WorkerStatus>>& cameras, int64_t stamp_ns) {
+  constexpr int kValues = 7;
+  std::vector<diagnostic_msgs_msg_dds__DiagnosticStatus_> status(cameras.size());
+  std::vector<std::array<diagnostic_msgs_msg_dds__KeyValue_, kValues>> values(cameras.size());
+  std::vector<std::array<std::string, kValues + 2>> text(cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const auto& [setup, st] = cameras[i];
+    auto& s = status[i];
+    auto& t = text[i];
+    // OK while streaming; ERROR while the camera is lost (no measurements); STALE once stopped.
+    s.level = st.state == WorkerState::kStreaming ? 0 : st.state == WorkerState::kStopped ? 3 : 2;
+    t[0] = "monocle: " + setup->id;
+    t[1] = st.state == WorkerState::kStreaming ? "streaming"
+           : st.state == WorkerState::kStopped ? "stopped"
+           : st.last_error.empty()             ? "reconnecting"
+                                               : "reconnecting: " + st.last_error;
+    s.name = Chars(t[0]);
+    s.message = Chars(t[1]);
+    s.hardware_id = Chars(setup->options.device);
+    const std::pair<const char*, std::string> kv[kValues] = {
+        {"role", ToString(setup->role)},
+        {"fps", std::to_string(st.fps)},
+        {"frames", std::to_string(st.frames)},
+        {"dropped", std::to_string(st.dropped)},
+        {"skipped", std::to_string(st.skipped)},
+        {"latency_ms", std::to_string(st.latency_ms)},
+        {"last_error", st.last_error}};
+    for (int v = 0; v < kValues; ++v) {
+      t[2 + v] = kv[v].second;
+      values[i][v].key = const_cast<char*>(kv[v].first);
+      values[i][v].value = Chars(t[2 + v]);
+    }
+    s.values._buffer = values[i].data();
+    s.values._length = s.values._maximum = kValues;
+    s.values._release = false;
+  }
+  diagnostic_msgs_msg_dds__DiagnosticArray_ array{};
+  array.header.stamp = RosTime(stamp_ns);
+  static const char kEmpty[] = "";
+  array.header.frame_id = const_cast<char*>(kEmpty);
+  array.status._buffer = status.data();
+  array.status._length = array.status._maximum = static_cast<uint32_t>(status.size());
+  array.status._release = false;
+  Report(diagnostics_->Write(array));
+}
+
+}  // namespace monocle

@@ -1,0 +1,57 @@
+// What monocled says in ROS 2's own terms, on plain Cyclone DDS with rmw_cyclonedds_cpp's
+// wire conventions (topic rt/<name>, types <pkg>::msg::dds_::<Name>_, ROS 2's default QoS:
+// reliable, volatile, keep-last 10). Per camera, under its namespace (default
+// /monocle/<camera>):
+//   <ns>/pose         geometry_msgs/PoseWithCovarianceStamped, every valid, unsuspected pose
+//   <ns>/camera_info  sensor_msgs/CameraInfo (plumb_bob), every status period
+//   <ns>/image_raw    sensor_msgs/Image mono8, only while subscribed, at most image_max_rate_hz
+// and for all cameras /tf (tf2_msgs/TFMessage, parent frame -> <camera>_optical) and
+// /diagnostics (diagnostic_msgs/DiagnosticArray, every status period).
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "idl/ros2_messages.h"
+#include "service/server/camera_worker.h"
+#include "service/server/dds.h"
+#include "service/server/service_config.h"
+
+namespace monocle {
+
+class RosTopics {
+ public:
+  static Result<std::unique_ptr<RosTopics>> Open(const std::shared_ptr<dds::Entity>& participant,
+                                                 const std::vector<CameraSetup>& cameras);
+
+  // The pose (and its tf) of a processed frame; nothing for a frame without a valid pose.
+  void PublishPose(const CameraSetup& camera, const ProcessedFrame& frame);
+  // The frame itself, if someone subscribes and the camera's rate limit allows.
+  void PublishImage(const CameraSetup& camera, const Frame& frame);
+  void PublishCameraInfo(const CameraSetup& camera, const CameraIntrinsics& k, int64_t stamp_ns);
+  void PublishDiagnostics(const std::vector<std::pair<const CameraSetup*, WorkerStatus>>& cameras,
+                          int64_t stamp_ns);
+
+  // The topic names a camera's ROS 2 endpoints use on the wire, for logs and the README.
+  static std::string WireTopic(const CameraSetup& camera, const std::string& leaf);
+
+ private:
+  struct PerCamera {
+    std::unique_ptr<dds::Endpoint<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> pose;
+    std::unique_ptr<dds::Endpoint<sensor_msgs_msg_dds__CameraInfo_>> camera_info;
+    std::unique_ptr<dds::Endpoint<sensor_msgs_msg_dds__Image_>> image;
+    std::chrono::steady_clock::time_point last_image{};
+  };
+  RosTopics() = default;
+
+  std::map<std::string, PerCamera> cameras_;  // by camera id
+  std::unique_ptr<dds::Endpoint<tf2_msgs_msg_dds__TFMessage_>> tf_;
+  std::unique_ptr<dds::Endpoint<diagnostic_msgs_msg_dds__DiagnosticArray_>> diagnostics_;
+  std::mutex image_mutex_;  // last_image of every camera
+};
+
+}  // namespace monocle

@@ -1,0 +1,204 @@
+// A ROS 2 node's view of monocled: readers written only from ROS 2's message definitions
+// (tests/integration/ros2_wire.idl, none of monocle's headers or types), with ROS 2's QoS
+// profiles, on a plain Cyclone DDS participant in this process; monocled runs its embedded
+// default (the simulated cameras sim-corner and sim-floor) in another.
+#include <dds/dds.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <string>
+#include <thread>
+
+#include "tests/integration/cli_process.h"
+#include "tests/integration/ros2_wire.h"
+
+namespace {
+
+using monocle::testing::ChildProcess;
+using monocle::testing::ReadFile;
+using monocle::testing::TempDir;
+
+constexpr dds_domainid_t kDomain = 41;
+
+std::string MonocledBinary() {
+  const std::string bin = monocle::testing::MonocleBinary();
+  return bin.substr(0, bin.rfind("/client/")) + "/service/monocled";
+}
+
+// rmw_qos_profile_default and rmw_qos_profile_sensor_data.
+dds_qos_t* RosQos(bool sensor_data) {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, sensor_data ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE,
+                       DDS_MSECS(100));
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, sensor_data ? 5 : 10);
+  return qos;
+}
+
+class Ros2InteropTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string config = std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml";
+    setenv("CYCLONEDDS_URI", ("file://" + config).c_str(), 1);
+    monocled_ =
+        std::make_unique<ChildProcess>(MonocledBinary(),
+                                       std::vector<std::string>{"--domain", std::to_string(kDomain),
+                                                                "--state-dir", dir_ / "state"},
+                                       dir_ / "monocled.log");
+    participant_ = dds_create_participant(kDomain, nullptr, nullptr);
+    ASSERT_GT(participant_, 0);
+  }
+  void TearDown() override {
+    dds_delete(participant_);
+    EXPECT_EQ(monocled_->Stop(), 0) << ReadFile(dir_ / "monocled.log");
+  }
+
+  dds_entity_t Reader(const dds_topic_descriptor_t* type, const char* topic, bool sensor_data) {
+    dds_qos_t* qos = RosQos(sensor_data);
+    const dds_entity_t t = dds_create_topic(participant_, type, topic, qos, nullptr);
+    const dds_entity_t r = t > 0 ? dds_create_reader(participant_, t, qos, nullptr) : t;
+    dds_delete_qos(qos);
+    return r;
+  }
+
+  // Takes samples from `reader` until `accept` returns true for one (then true) or `timeout`.
+  template <typename T>
+  bool TakeUntil(dds_entity_t reader, std::chrono::seconds timeout,
+                 const std::function<bool(const T&)>& accept) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      void* samples[4] = {};
+      dds_sample_info_t infos[4];
+      const int n = dds_take(reader, samples, infos, 4, 4);
+      bool done = false;
+      for (int i = 0; i < n && !done; ++i) {
+        if (infos[i].valid_data) done = accept(*static_cast<const T*>(samples[i]));
+      }
+      if (n > 0) dds_return_loan(reader, samples, n);
+      if (done) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  TempDir dir_{"monocle_ros2_interop"};
+  std::unique_ptr<ChildProcess> monocled_;
+  dds_entity_t participant_ = 0;
+};
+
+double NowS() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double StampS(const builtin_interfaces_msg_dds__Time_& t) { return t.sec + 1e-9 * t.nanosec; }
+
+TEST_F(Ros2InteropTest, DefaultQosReadersReceivePoseTfCameraInfoImageAndDiagnostics) {
+  const auto pose_reader = Reader(&geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc,
+                                  "rt/monocle/sim_corner/pose", false);
+  const auto tf_reader = Reader(&tf2_msgs_msg_dds__TFMessage__desc, "rt/tf", false);
+  const auto info_reader =
+      Reader(&sensor_msgs_msg_dds__CameraInfo__desc, "rt/monocle/sim_floor/camera_info", false);
+  // rviz and rqt_image_view subscribe to images with the sensor-data profile (best effort).
+  const auto image_reader =
+      Reader(&sensor_msgs_msg_dds__Image__desc, "rt/monocle/sim_corner/image_raw", true);
+  const auto diagnostics_reader =
+      Reader(&diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics", false);
+  for (auto r : {pose_reader, tf_reader, info_reader, image_reader, diagnostics_reader})
+    ASSERT_GT(r, 0);
+  constexpr std::chrono::seconds kWait{40};
+
+  // The pose of the camera in the corner frame: the ceiling 1.6 m above the camera (the
+  // simulated room's), inside the room, a unit quaternion, a covariance ROS can use.
+  geometry_msgs_msg_dds__PoseWithCovarianceStamped_ pose{};
+  std::string pose_frame;
+  ASSERT_TRUE(TakeUntil<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>(pose_reader, kWait,
+                                                                           [&](const auto& p) {
+                                                                             pose = p;
+                                                                             pose_frame =
+                                                                                 p.header.frame_id;
+                                                                             return true;
+                                                                           }))
+      << ReadFile(dir_ / "monocled.log");
+  EXPECT_EQ(pose_frame, "corner");
+  EXPECT_NEAR(StampS(pose.header.stamp), NowS(), 60);
+  const auto& position = pose.pose.pose.position;
+  EXPECT_NEAR(position.z, 1.6, 1e-9);
+  EXPECT_GT(position.x, 0);
+  EXPECT_GT(position.y, 0);
+  const auto& q = pose.pose.pose.orientation;
+  EXPECT_NEAR(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w, 1, 1e-9);
+  const double* c = pose.pose.covariance;
+  for (int i : {0, 7, 21, 28, 35}) EXPECT_GT(c[i], 0) << "diagonal " << i / 6;
+  EXPECT_EQ(c[14], 0);  // z: the ceiling distance is given, not measured
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < a; ++b) EXPECT_DOUBLE_EQ(c[6 * a + b], c[6 * b + a]);
+  // 1 sigma of a centimetre to decimetres and of well under a degree: a usable pose.
+  EXPECT_LT(std::sqrt(c[0]), 0.2);
+  EXPECT_LT(std::sqrt(c[35]), 0.05);
+
+  // tf: corner -> sim_corner_optical, the same transform as some pose.
+  bool tf_ok = TakeUntil<tf2_msgs_msg_dds__TFMessage_>(tf_reader, kWait, [&](const auto& m) {
+    if (m.transforms._length != 1) return false;
+    const auto& t = m.transforms._buffer[0];
+    EXPECT_STREQ(t.header.frame_id, "corner");
+    EXPECT_STREQ(t.child_frame_id, "sim_corner_optical");
+    EXPECT_NEAR(t.transform.translation.z, 1.6, 1e-9);
+    const auto& r = t.transform.rotation;
+    EXPECT_NEAR(r.x * r.x + r.y * r.y + r.z * r.z + r.w * r.w, 1, 1e-9);
+    return true;
+  });
+  EXPECT_TRUE(tf_ok);
+
+  // camera_info of the floor camera, plumb_bob (OpenCV's k1 k2 p1 p2 k3).
+  bool info_ok =
+      TakeUntil<sensor_msgs_msg_dds__CameraInfo_>(info_reader, kWait, [&](const auto& info) {
+        EXPECT_EQ(info.width, 1280u);
+        EXPECT_EQ(info.height, 1024u);
+        EXPECT_STREQ(info.distortion_model, "plumb_bob");
+        EXPECT_EQ(info.d._length, 5u);
+        EXPECT_GT(info.k[0], 100);  // fx
+        EXPECT_EQ(info.k[8], 1);
+        EXPECT_EQ(info.p[0], info.k[0]);  // P = [K | 0]
+        EXPECT_EQ(info.p[3], 0);
+        EXPECT_EQ(info.p[10], 1);
+        EXPECT_STREQ(info.header.frame_id, "sim_floor_optical");
+        return true;
+      });
+  EXPECT_TRUE(info_ok);
+
+  // The live image, mono8, as the camera sees the ceiling corner.
+  bool image_ok = TakeUntil<sensor_msgs_msg_dds__Image_>(image_reader, kWait, [&](const auto& im) {
+    EXPECT_STREQ(im.encoding, "mono8");
+    EXPECT_EQ(im.step, im.width);
+    EXPECT_EQ(im.data._length, static_cast<uint32_t>(im.width * im.height));
+    EXPECT_EQ(im.width, 1280u);
+    int lo = 255, hi = 0;
+    for (uint32_t i = 0; i < im.data._length; i += 97) {
+      lo = std::min<int>(lo, im.data._buffer[i]);
+      hi = std::max<int>(hi, im.data._buffer[i]);
+    }
+    EXPECT_GT(hi - lo, 20) << "a picture, not a blank buffer";
+    return true;
+  });
+  EXPECT_TRUE(image_ok);
+
+  // Diagnostics: both cameras, streaming (OK) once they run, their device as hardware id.
+  bool both_ok = TakeUntil<diagnostic_msgs_msg_dds__DiagnosticArray_>(
+      diagnostics_reader, kWait, [&](const auto& d) {
+        int ok = 0;
+        for (uint32_t i = 0; i < d.status._length; ++i) {
+          const auto& s = d.status._buffer[i];
+          const std::string name = s.name;
+          if ((name == "monocle: sim-corner" || name == "monocle: sim-floor") && s.level == 0 &&
+              std::string(s.hardware_id).rfind("sim-", 0) == 0 && s.values._length > 0)
+            ++ok;
+        }
+        return ok == 2;
+      });
+  EXPECT_TRUE(both_ok) << ReadFile(dir_ / "monocled.log");
+}
+
+}  // namespace
