@@ -414,17 +414,11 @@ Result<FloorCalibration> PredictFloorCalibration(const CameraIntrinsics& k, cons
       board_origin_robot_m.y();
   const int m = 2 * static_cast<int>(board->pixels.size());
   // The fit's Jacobian at the truth, by the same central differences the solver uses.
-  Eigen::MatrixXd jq(m, kNumParams);
-  Eigen::VectorXd plus(m), minus(m);
-  for (int p = 0; p < kNumParams; ++p) {
-    const double step = 1e-6 * std::max(1.0, std::abs(q[p]));
-    Eigen::VectorXd qp = q, qm = q;
-    qp[p] += step;
-    qm[p] -= step;
-    if (!BoardResiduals(k, *board, qp, &plus) || !BoardResiduals(k, *board, qm, &minus))
-      return MakeError(ErrorCode::kOutOfRange, "a board corner is behind the camera");
-    jq.col(p) = (plus - minus) / (2 * step);
-  }
+  Eigen::MatrixXd jq;
+  if (!NumericJacobian([&](const Eigen::VectorXd& x,
+                           Eigen::VectorXd* r) { return BoardResiduals(k, *board, x, r); },
+                       q, m, &jq))
+    return MakeError(ErrorCode::kOutOfRange, "a board corner is behind the camera");
   const Eigen::MatrixXd info = jq.transpose() * jq;
   Eigen::LDLT<Eigen::MatrixXd> ldlt(info);
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) {

@@ -5,7 +5,6 @@
 #include <cmath>
 
 namespace monocle {
-namespace {
 
 bool NumericJacobian(const ResidualFunction& f, const Eigen::VectorXd& x, int m,
                      Eigen::MatrixXd* jacobian) {
@@ -23,8 +22,6 @@ bool NumericJacobian(const ResidualFunction& f, const Eigen::VectorXd& x, int m,
   }
   return true;
 }
-
-}  // namespace
 
 LevenbergMarquardtSummary MinimizeLevenbergMarquardt(const ResidualFunction& f, int m,
                                                      Eigen::VectorXd* x,

@@ -34,6 +34,11 @@ LevenbergMarquardtSummary MinimizeLevenbergMarquardt(const ResidualFunction& f, 
                                                      Eigen::VectorXd* x,
                                                      const LevenbergMarquardtOptions& options = {});
 
+// d(residuals)/dx at x (m residuals) by central differences, the solver's own; false where
+// the model is undefined at a step.
+bool NumericJacobian(const ResidualFunction& f, const Eigen::VectorXd& x, int num_residuals,
+                     Eigen::MatrixXd* jacobian);
+
 // Covariance of the parameters from the Jacobian at the solution, scaling by the
 // residual variance (sum r^2 / (m - n)). Empty (zero-size) matrix if J^T J is singular.
 Eigen::MatrixXd CovarianceFromJacobian(const Eigen::MatrixXd& jacobian,
