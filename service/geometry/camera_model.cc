@@ -127,6 +127,13 @@ Eigen::Matrix<double, 2, kNumIntrinsicParams> NormalizedJacobianWrtIntrinsics(
   return -normalized_from_pixel * PixelJacobianWrtIntrinsics(k, normalized);
 }
 
+IntrinsicParams IntrinsicParamsOf(const CameraIntrinsics& k) {
+  IntrinsicParams p;
+  p << k.fx, k.fy, k.cx, k.cy, k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3],
+      k.distortion[4];
+  return p;
+}
+
 CameraIntrinsics PerturbIntrinsics(const CameraIntrinsics& k,
                                    const Eigen::Matrix<double, kNumIntrinsicParams, 1>& delta) {
   CameraIntrinsics out = k;

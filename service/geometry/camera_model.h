@@ -46,6 +46,11 @@ Eigen::Matrix<double, 2, kNumIntrinsicParams> NormalizedJacobianWrtIntrinsics(
     const CameraIntrinsics& k, const Eigen::Vector2d& normalized,
     const Eigen::Matrix2d& normalized_from_pixel);
 
+using IntrinsicParams = Eigen::Matrix<double, kNumIntrinsicParams, 1>;
+
+// The tracked parameters of `k`, in the order above.
+IntrinsicParams IntrinsicParamsOf(const CameraIntrinsics& k);
+
 // Adds `delta` (in the order above) to the intrinsics; for numeric checks and propagation.
 CameraIntrinsics PerturbIntrinsics(const CameraIntrinsics& k,
                                    const Eigen::Matrix<double, kNumIntrinsicParams, 1>& delta);

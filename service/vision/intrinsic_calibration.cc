@@ -91,8 +91,10 @@ struct Fit {
   std::vector<std::vector<Eigen::Vector2d>> residuals_px;  // per used view
 };
 
-CameraIntrinsics ToIntrinsics(const cv::Mat& camera_matrix, const cv::Mat& dist,
-                              const cv::Size& size) {
+}  // namespace
+
+CameraIntrinsics IntrinsicsFromOpenCv(const cv::Mat& camera_matrix, const cv::Mat& dist,
+                                      const cv::Size& size) {
   CameraIntrinsics k;
   k.width_px = size.width;
   k.height_px = size.height;
@@ -103,6 +105,8 @@ CameraIntrinsics ToIntrinsics(const cv::Mat& camera_matrix, const cv::Mat& dist,
   for (int i = 0; i < 5; ++i) k.distortion[i] = dist.at<double>(i);
   return k;
 }
+
+namespace {
 
 // Residuals and the Gauss-Newton covariance of the intrinsics with every view's pose
 // marginalised out (Schur complement of the normal equations' arrow structure), scaled by
@@ -174,7 +178,7 @@ Result<Fit> FitModel(const Correspondences& c, const cv::Size& size, DistortionM
     return MakeError(ErrorCode::kDegenerate,
                      std::string("the views do not determine the camera (OpenCV: ") + e.err + ")");
   }
-  fit.intrinsics = ToIntrinsics(camera_matrix, dist, size);
+  fit.intrinsics = IntrinsicsFromOpenCv(camera_matrix, dist, size);
   Evaluate(c, &fit);
   return fit;
 }

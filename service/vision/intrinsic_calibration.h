@@ -77,6 +77,11 @@ struct IntrinsicCalibration {
 };
 
 // Needs at least 3 views, all of `image_size`.
+// OpenCV's camera matrix and distortion coefficients (k1 k2 p1 p2 [k3 ...]) as monocle's
+// intrinsics for an image of `size`.
+CameraIntrinsics IntrinsicsFromOpenCv(const cv::Mat& camera_matrix, const cv::Mat& dist,
+                                      const cv::Size& size);
+
 Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<IntrinsicView>& views,
                                                  const cv::Size& image_size,
                                                  const IntrinsicCalibrationOptions& options = {});

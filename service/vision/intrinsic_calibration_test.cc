@@ -79,24 +79,9 @@ TEST(IntrinsicCalibrationTest, SameOptimumAsOpenCvAndSigmasAgreeWithItsOwn) {
   }
   // The same optimum as OpenCV's default solver (monocle steps with LU, OpenCV here with
   // SVD): every parameter within a thousandth of its own sigma.
-  const double opencv_values[kNumIntrinsicParams] = {camera_matrix.at<double>(0, 0),
-                                                     camera_matrix.at<double>(1, 1),
-                                                     camera_matrix.at<double>(0, 2),
-                                                     camera_matrix.at<double>(1, 2),
-                                                     dist.at<double>(0),
-                                                     dist.at<double>(1),
-                                                     dist.at<double>(2),
-                                                     dist.at<double>(3),
-                                                     dist.at<double>(4)};
-  const double ours[kNumIntrinsicParams] = {cal->intrinsics.fx,
-                                            cal->intrinsics.fy,
-                                            cal->intrinsics.cx,
-                                            cal->intrinsics.cy,
-                                            cal->intrinsics.distortion[0],
-                                            cal->intrinsics.distortion[1],
-                                            cal->intrinsics.distortion[2],
-                                            cal->intrinsics.distortion[3],
-                                            cal->intrinsics.distortion[4]};
+  const IntrinsicParams opencv_values =
+      IntrinsicParamsOf(IntrinsicsFromOpenCv(camera_matrix, dist, {k.width_px, k.height_px}));
+  const IntrinsicParams ours = IntrinsicParamsOf(cal->intrinsics);
   for (int p = 0; p < kNumIntrinsicParams; ++p)
     EXPECT_NEAR(ours[p], opencv_values[p], 1e-3 * sigma[p]) << kIntrinsicParamNames[p];
 }

@@ -100,24 +100,8 @@ TEST(OpenCvSamplesTest, IntrinsicsAgreeWithOpenCvWithinTwoSigma) {
   const double convention = std::sqrt((points - params) / (2 * points - params));
   const auto& k = cal->intrinsics;
   const auto sigma = cal->Sigma();
-  const double mine[kNumIntrinsicParams] = {k.fx,
-                                            k.fy,
-                                            k.cx,
-                                            k.cy,
-                                            k.distortion[0],
-                                            k.distortion[1],
-                                            k.distortion[2],
-                                            k.distortion[3],
-                                            k.distortion[4]};
-  const double theirs[kNumIntrinsicParams] = {camera_matrix.at<double>(0, 0),
-                                              camera_matrix.at<double>(1, 1),
-                                              camera_matrix.at<double>(0, 2),
-                                              camera_matrix.at<double>(1, 2),
-                                              dist.at<double>(0),
-                                              dist.at<double>(1),
-                                              dist.at<double>(2),
-                                              dist.at<double>(3),
-                                              dist.at<double>(4)};
+  const IntrinsicParams mine = IntrinsicParamsOf(k);
+  const IntrinsicParams theirs = IntrinsicParamsOf(IntrinsicsFromOpenCv(camera_matrix, dist, size));
   for (const auto& v : cal->views)
     std::cout << v.name << " rms " << v.rms_px << " rejected " << v.rejected_corners
               << (v.outlier ? " OUTLIER" : "") << "\n";
