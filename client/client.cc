@@ -2,13 +2,17 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
+#include <tuple>
 
-#include "idl/monocle.h"
-#include "service/server/dds.h"
+#include "client/protocol/convert.h"
+#include "client/protocol/service_endpoints.h"
+#include "client/protocol/wire.h"
 
 namespace monocle {
 namespace {
@@ -16,12 +20,13 @@ namespace {
 using std::chrono::milliseconds;
 using Clock = std::chrono::steady_clock;
 
-// Same history and durability as the service's endpoints (service/server/reply_publisher.h).
-constexpr dds::EndpointQos kRequestQos{64, false};
-constexpr dds::EndpointQos kReplyQos{1, true};
 constexpr milliseconds kPoll{100};
-
-std::string Text(const char* s) { return s != nullptr ? s : ""; }
+// Kept statuses of every camera arrive together once a service is discovered; services found
+// later follow within this.
+constexpr milliseconds kDiscoveryGrace{1000};
+// A camera whose status has not been heard for this long is taken as gone (its service
+// stopped or crashed): statuses come every status period, 1 s by default.
+constexpr milliseconds kStatusStale{10000};
 
 ClientError DdsFailure(const Error& e) { return {ClientError::Code::kDds, e.message}; }
 
@@ -32,86 +37,97 @@ ClientError NoService(int domain, milliseconds timeout, const std::string& what)
                                              " ms: is monocled running, on that domain?"};
 }
 
-Pose ToPose(const monocle_dds_CornerPose& s) {
-  Pose p;
-  p.camera_id = Text(s.camera_id);
-  p.frame_sequence = s.frame_sequence;
-  p.capture_time_ns = s.capture_time_ns;
-  p.camera_clock = s.time_source == 1;
-  p.valid = s.status == 0;
-  p.error = Text(s.error);
-  p.x_m = s.x;
-  p.y_m = s.y;
-  p.z_m = s.z;
-  p.pan_rad = s.pan;
-  p.tilt_rad = s.tilt;
-  p.swing_rad = s.swing;
-  for (size_t i = 0; i < 4; ++i) p.quaternion_wxyz[i] = s.quaternion[i];
-  for (size_t i = 0; i < 25; ++i) p.covariance[i] = s.covariance[i];
-  p.corner_px = {s.corner_px[0], s.corner_px[1]};
-  p.rms_px = s.rms_px;
-  p.processing_ns = s.processing_ns;
-  p.tracked = s.tracked;
-  p.suspect = s.suspect;
-  p.suspect_reason = Text(s.suspect_reason);
-  return p;
+ClientError::Code CodeOf(monocle_msgs_msg_dds__RequestStatus status) {
+  return status == monocle_msgs_msg_dds__REQUEST_INVALID ? ClientError::Code::kInvalidRequest
+                                                         : ClientError::Code::kFailed;
 }
 
-CameraStatus ToStatus(const monocle_dds_CameraStatus& s) {
-  CameraStatus c;
-  c.camera_id = Text(s.camera_id);
-  c.device = Text(s.device);
-  c.role = Text(s.role);
-  c.state = static_cast<CameraState>(s.state);
-  c.fps = s.fps;
-  c.frames = s.frames;
-  c.dropped = s.dropped;
-  c.skipped = s.skipped;
-  c.latency_ms = s.latency_ms;
-  c.last_error = Text(s.last_error);
-  c.last_error_ns = s.last_error_ns;
-  c.stamp_ns = s.stamp_ns;
-  return c;
+bool HasRole(const CameraStatus& s, const std::string& role) {
+  return role.empty() || s.role.find(role) != std::string::npos;
 }
 
-Calibration ToCalibration(const monocle_dds_Calibration& s) {
-  Calibration c;
-  c.camera_id = Text(s.camera_id);
-  c.revision = s.revision;
-  c.updated_ns = s.updated_ns;
-  c.width_px = s.width_px;
-  c.height_px = s.height_px;
-  c.fx = s.fx;
-  c.fy = s.fy;
-  c.cx = s.cx;
-  c.cy = s.cy;
-  for (size_t i = 0; i < 8; ++i) c.distortion[i] = s.distortion[i];
-  if (s.has_floor) {
-    c.floor =
-        FloorPoseEstimate{s.floor_height_m,
-                          s.floor_pitch,
-                          s.floor_yaw,
-                          s.floor_roll,
-                          {s.floor_sigma[0], s.floor_sigma[1], s.floor_sigma[2], s.floor_sigma[3]},
-                          s.floor_rms_px};
-  }
-  if (s.has_ceiling) c.ceiling_distance_m = s.ceiling_distance_m;
-  c.file = Text(s.file);
-  c.text = Text(s.text);
-  return c;
-}
+using PointService = dds::ServiceClient<monocle_msgs_srv_dds__MeasurePoints_Request_,
+                                        monocle_msgs_srv_dds__MeasurePoints_Response_>;
+using PoseService = dds::ServiceClient<monocle_msgs_srv_dds__GetPose_Request_,
+                                       monocle_msgs_srv_dds__GetPose_Response_>;
+using FloorService = dds::ServiceClient<monocle_msgs_srv_dds__CalibrateFloor_Request_,
+                                        monocle_msgs_srv_dds__CalibrateFloor_Response_>;
 
-ClientError::Code FromReplyStatus(uint8_t status) {
-  return status == 1 ? ClientError::Code::kInvalidRequest : ClientError::Code::kFailed;
-}
-
-// The request and reply endpoints of one kind of request, opened on first use.
-template <typename Request, typename Reply>
+// The service clients of one kind, one per camera namespace, opened on first use.
+template <typename Service>
 struct Channel {
-  std::mutex mutex;  // one call of this kind at a time: replies are taken by one caller
-  std::unique_ptr<dds::Endpoint<Request>> requests;
-  std::unique_ptr<dds::Endpoint<Reply>> replies;
+  std::mutex mutex;  // one call of this kind at a time
+  std::map<std::string, std::unique_ptr<Service>> by_namespace;
 };
+
+// Every camera status heard, by (namespace, service).
+class Directory {
+ public:
+  struct Entry {
+    CameraStatus status;
+    Clock::time_point heard;
+  };
+
+  static Result<std::unique_ptr<Directory>> Open(const std::shared_ptr<dds::Entity>& p) {
+    auto reader = dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>::Open(
+        p, &monocle_msgs_msg_dds__CameraStatus__desc, wire::kCamerasTopic, false, true,
+        wire::kDirectoryReaderQos);
+    if (!reader) return reader.error();
+    auto d = std::make_unique<Directory>();
+    d->reader_ = std::make_unique<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>>(
+        std::move(reader).value());
+    return d;
+  }
+
+  // Takes what has arrived, waiting up to `wait` for something; returns the live entries.
+  std::vector<Entry> Update(milliseconds wait) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto taken = reader_->Take<CameraStatus>(
+        wait, [](const monocle_msgs_msg_dds__CameraStatus_& s) { return wire::FromSample(s); });
+    const auto now = Clock::now();
+    if (taken) {
+      for (auto& s : *taken) {
+        if (!first_heard_) first_heard_ = now;
+        const auto key = std::make_pair(s.ros_namespace, s.service);
+        entries_.insert_or_assign(key, Entry{std::move(s), now});
+      }
+    }
+    std::vector<Entry> live;
+    for (const auto& [key, e] : entries_) {
+      if (now - e.heard < kStatusStale) live.push_back(e);
+    }
+    return live;
+  }
+
+  std::optional<Clock::time_point> first_heard() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return first_heard_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>> reader_;
+  std::map<std::pair<std::string, std::string>, Entry> entries_;
+  std::optional<Clock::time_point> first_heard_;
+};
+
+// Two services claiming one namespace, in words; empty if none.
+std::string Clashes(const std::vector<Directory::Entry>& entries) {
+  std::map<std::string, std::set<std::string>> services;
+  for (const auto& e : entries) {
+    if (e.status.state != CameraState::kStopped)
+      services[e.status.ros_namespace].insert(e.status.service);
+  }
+  std::string out;
+  for (const auto& [ns, s] : services) {
+    if (s.size() < 2) continue;
+    out += (out.empty() ? "" : "; ") + ns + " is served by " + std::to_string(s.size()) +
+           " monocled (";
+    for (auto it = s.begin(); it != s.end(); ++it) out += (it == s.begin() ? "" : ", ") + *it;
+    out += ")";
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -127,6 +143,12 @@ const char* ToString(CameraState state) {
       return "stopped";
   }
   return "unknown";
+}
+
+std::string DuplicateCameras(const std::vector<CameraStatus>& cameras) {
+  std::vector<Directory::Entry> entries;
+  for (const auto& c : cameras) entries.push_back({c, Clock::now()});
+  return Clashes(entries);
 }
 
 struct Subscription::State {
@@ -147,100 +169,100 @@ void Subscription::stop() { state_.reset(); }
 struct Client::Impl {
   Options options;
   std::shared_ptr<dds::Entity> participant;
-  std::string client_id;
-  std::atomic<uint64_t> next_request{1};
-  Channel<monocle_dds_PointRequest, monocle_dds_PointReply> points;
-  Channel<monocle_dds_PoseRequest, monocle_dds_PoseReply> poses;
-  Channel<monocle_dds_FloorCalibrationRequest, monocle_dds_FloorCalibrationReply> floor;
+  std::unique_ptr<Directory> directory;
+  Channel<PointService> points;
+  Channel<PoseService> poses;
+  Channel<FloorService> floor;
 
-  template <typename Req, typename Rep>
-  std::optional<ClientError> Ensure(Channel<Req, Rep>& ch, const dds_topic_descriptor_t* req_type,
-                                    const char* req_topic, const dds_topic_descriptor_t* rep_type,
-                                    const char* rep_topic) {
-    if (ch.requests) return std::nullopt;
-    // The reply reader first, so it exists before any request can be answered.
-    auto replies =
-        dds::Endpoint<Rep>::Open(participant, rep_type, rep_topic, false, true, kReplyQos);
-    if (!replies) return DdsFailure(replies.error());
-    auto requests =
-        dds::Endpoint<Req>::Open(participant, req_type, req_topic, true, false, kRequestQos);
-    if (!requests) return DdsFailure(requests.error());
-    ch.replies = std::make_unique<dds::Endpoint<Rep>>(std::move(replies).value());
-    ch.requests = std::make_unique<dds::Endpoint<Req>>(std::move(requests).value());
-    return std::nullopt;
-  }
-
-  // Sends `request` (its client id and request id are set here) and waits for its reply;
-  // `convert` turns the reply into the result.
-  template <typename Out, typename Req, typename Rep, typename Convert>
-  ClientResult<Out> Call(Channel<Req, Rep>& ch, Req& request, const char* what, Convert convert) {
-    const auto deadline = Clock::now() + options.timeout;
-    if (!ch.requests->WaitForReader(options.timeout))
-      return NoService(options.domain, options.timeout, what);
-    const uint64_t id = next_request++;
-    request.client_id = client_id.data();
-    request.request_id = id;
-    if (auto w = ch.requests->Write(request); !w) return DdsFailure(w.error());
-    while (Clock::now() < deadline) {
-      const auto left = std::chrono::duration_cast<milliseconds>(deadline - Clock::now());
-      auto taken = ch.replies->template Take<std::optional<ClientResult<Out>>>(
-          std::max(milliseconds(1), std::min(left, kPoll)),
-          [&](const Rep& r) -> std::optional<ClientResult<Out>> {
-            if (r.request_id != id || r.client_id == nullptr || client_id != r.client_id)
-              return std::nullopt;  // another client's, or an old one of ours
-            return convert(r);
-          });
-      if (!taken) return DdsFailure(taken.error());
-      for (auto& reply : *taken) {
-        if (reply) return std::move(*reply);
+  // The one camera `camera` (an id or a namespace) names, with `role` ("floor", "corner" or
+  // any if empty). Waits for the directory until the deadline.
+  ClientResult<CameraStatus> Resolve(const std::string& camera, const std::string& role,
+                                     Clock::time_point deadline) {
+    const std::string kind = role.empty() ? "camera" : role + " camera";
+    for (;;) {
+      const auto entries = directory->Update(kPoll);
+      std::vector<CameraStatus> named;
+      for (const auto& e : entries) {
+        if (e.status.camera_id == camera || e.status.ros_namespace == camera)
+          named.push_back(e.status);
       }
-    }
-    return NoService(options.domain, options.timeout, what);
-  }
-
-  template <typename Sample, typename Out, typename Convert>
-  ClientResult<Subscription> Subscribe(const dds_topic_descriptor_t* type, const char* topic,
-                                       dds::EndpointQos qos, Convert convert,
-                                       std::function<void(const Out&)> callback) {
-    auto reader = dds::Endpoint<Sample>::Open(participant, type, topic, false, true, qos);
-    if (!reader) return DdsFailure(reader.error());
-    Subscription sub;
-    sub.state_ = std::make_unique<Subscription::State>();
-    auto* state = sub.state_.get();
-    state->thread =
-        std::thread([state, reader = std::move(reader).value(), convert, callback]() mutable {
-          while (!state->stop) {
-            auto taken = reader.template Take<std::optional<Out>>(kPoll, convert);
-            if (!taken) continue;
-            for (const auto& out : *taken) {
-              if (out && !state->stop) callback(*out);
-            }
-          }
+      std::set<std::string> namespaces;
+      for (const auto& s : named) namespaces.insert(s.ros_namespace);
+      if (namespaces.size() > 1) {
+        std::string list;
+        for (const auto& ns : namespaces) list += (list.empty() ? "" : ", ") + ns;
+        return ClientError{ClientError::Code::kInvalidRequest,
+                           "camera '" + camera + "' is on several robots (" + list +
+                               "): name it by its namespace"};
+      }
+      if (named.size() > 1) {
+        std::vector<Directory::Entry> same;
+        for (const auto& s : named) same.push_back({s, Clock::now()});
+        if (const std::string clash = Clashes(same); !clash.empty()) {
+          return ClientError{
+              ClientError::Code::kInvalidRequest,
+              "camera '" + camera + "': " + clash + "; give each robot its own ros_namespace"};
+        }
+      }
+      if (!named.empty()) {
+        // The newest status of the one service that is not stopped, if any.
+        std::sort(named.begin(), named.end(), [](const auto& a, const auto& b) {
+          return std::make_tuple(a.state != CameraState::kStopped, a.stamp_ns) >
+                 std::make_tuple(b.state != CameraState::kStopped, b.stamp_ns);
         });
-    return sub;
+        const CameraStatus& s = named.front();
+        if (!HasRole(s, role)) {
+          return ClientError{
+              ClientError::Code::kInvalidRequest,
+              "camera '" + s.camera_id + "' is not a " + kind + " (role " + s.role + ")"};
+        }
+        return s;
+      }
+      const auto first = directory->first_heard();
+      const auto now = Clock::now();
+      if (first && (now - *first > kDiscoveryGrace || now >= deadline)) {
+        std::string known;
+        for (const auto& e : entries) {
+          if (HasRole(e.status, role))
+            known += (known.empty() ? "" : ", ") + e.status.camera_id + " (" +
+                     e.status.ros_namespace + ")";
+        }
+        return ClientError{ClientError::Code::kInvalidRequest,
+                           "unknown camera '" + camera + "' on DDS domain " +
+                               std::to_string(options.domain) + "; " + kind +
+                               "s there: " + (known.empty() ? "none" : known)};
+      }
+      if (now >= deadline) return NoService(options.domain, options.timeout, "camera status");
+    }
   }
 
-  // Every instance's latest sample of a transient-local topic (one per camera).
-  template <typename Sample, typename Out, typename Convert>
-  ClientResult<std::vector<Out>> Current(const dds_topic_descriptor_t* type, const char* topic,
-                                         const char* what, Convert convert) {
-    auto reader = dds::Endpoint<Sample>::Open(participant, type, topic, false, true, {1, true});
-    if (!reader) return DdsFailure(reader.error());
-    std::map<std::string, Out> by_camera;
+  // Sends one request to the service of `camera` and waits for its reply.
+  template <typename Out, typename Service, typename Request, typename Convert>
+  ClientResult<Out> Call(Channel<Service>& ch, const std::string& camera, const std::string& role,
+                         const char* service_name, const dds_topic_descriptor_t* request_type,
+                         const dds_topic_descriptor_t* reply_type, Request& request,
+                         Convert convert) {
     const auto deadline = Clock::now() + options.timeout;
-    // Kept samples arrive together once the service is discovered: wait for the first, then
-    // collect for a short while (samples keep coming, so a quiet spell may never happen).
-    std::optional<Clock::time_point> first;
-    while (Clock::now() < deadline && (!first || Clock::now() - *first < 3 * kPoll)) {
-      auto taken = reader->template Take<Out>(kPoll, convert);
-      if (!taken) return DdsFailure(taken.error());
-      if (!taken->empty() && !first) first = Clock::now();
-      for (auto& out : *taken) by_camera.insert_or_assign(out.camera_id, std::move(out));
+    auto status = Resolve(camera, role, deadline);
+    if (!status) return status.error();
+    const std::string& ns = status->ros_namespace;
+    std::lock_guard<std::mutex> lock(ch.mutex);
+    auto& service = ch.by_namespace[ns];
+    if (!service) {
+      auto opened = Service::Open(participant, request_type, reply_type, ns, service_name);
+      if (!opened) return DdsFailure(opened.error());
+      service = std::make_unique<Service>(std::move(opened).value());
     }
-    if (by_camera.empty()) return NoService(options.domain, options.timeout, what);
-    std::vector<Out> out;
-    for (auto& [id, value] : by_camera) out.push_back(std::move(value));
-    return out;
+    const std::string what = std::string(service_name) + " reply of camera '" + camera + "'";
+    auto left = [&] {
+      return std::max(milliseconds(1),
+                      std::chrono::duration_cast<milliseconds>(deadline - Clock::now()));
+    };
+    if (!service->WaitForService(left())) return NoService(options.domain, options.timeout, what);
+    auto reply = service->template Call<ClientResult<Out>>(request, left(), convert);
+    if (!reply) return DdsFailure(reply.error());
+    if (!*reply) return NoService(options.domain, options.timeout, what);
+    return std::move(**reply);
   }
 };
 
@@ -257,128 +279,179 @@ ClientResult<Client> Client::open(Options options) {
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   impl->participant = *participant;
-  char host[256] = {};
-  ::gethostname(host, sizeof(host) - 1);
-  // Unique among the service's clients: host, process and this client's address.
-  impl->client_id = std::string(host) + "/" + std::to_string(::getpid()) + "/" +
-                    std::to_string(reinterpret_cast<uintptr_t>(impl.get()));
+  // Listening from the start: by the first request the cameras are likely known.
+  auto directory = Directory::Open(impl->participant);
+  if (!directory) return DdsFailure(directory.error());
+  impl->directory = std::move(directory).value();
   return Client(std::move(impl));
 }
 
 ClientResult<std::vector<MeasuredPoint>> Client::measure(const std::string& camera,
                                                          const std::vector<PixelQuery>& pixels,
                                                          double pixel_sigma_px) {
-  auto& ch = impl_->points;
-  std::lock_guard<std::mutex> lock(ch.mutex);
-  if (auto e = impl_->Ensure(ch, &monocle_dds_PointRequest_desc, dds::kPointRequestTopic,
-                             &monocle_dds_PointReply_desc, dds::kPointReplyTopic))
-    return *e;
-  std::vector<monocle_dds_PixelQuery> queries;
-  queries.reserve(pixels.size());
-  for (const auto& p : pixels) {
-    queries.push_back({p.u, p.v, p.floor_px.has_value(), p.floor_px ? (*p.floor_px)[0] : 0,
-                       p.floor_px ? (*p.floor_px)[1] : 0});
-  }
-  monocle_dds_PointRequest request{};
-  request.camera_id = const_cast<char*>(camera.c_str());
-  request.pixel_sigma_px = pixel_sigma_px;
-  request.points._buffer = queries.data();
-  request.points._length = request.points._maximum = static_cast<uint32_t>(queries.size());
-  request.points._release = false;
+  wire::PointRequestColumns columns;
+  monocle_msgs_srv_dds__MeasurePoints_Request_ request;
+  wire::ToSample(pixels, pixel_sigma_px, &columns, &request);
   return impl_->Call<std::vector<MeasuredPoint>>(
-      ch, request, "point reply",
-      [](const monocle_dds_PointReply& r) -> ClientResult<std::vector<MeasuredPoint>> {
-        if (r.status != 0) return ClientError{FromReplyStatus(r.status), Text(r.error)};
-        std::vector<MeasuredPoint> out(r.points._length);
-        for (uint32_t i = 0; i < r.points._length; ++i) {
-          const auto& q = r.points._buffer[i];
-          out[i].status = static_cast<MeasuredPoint::Status>(q.status);
-          out[i].p_robot_m = {q.x, q.y, q.z};
-          out[i].sigma_m = {q.sigma[0], q.sigma[1], q.sigma[2]};
-        }
-        for (uint32_t i = 0; i < r.point_errors._length; ++i) {
-          const auto& e = r.point_errors._buffer[i];
-          if (e.index < out.size()) out[e.index].error = Text(e.message);
-        }
-        return out;
+      impl_->points, camera, "floor", wire::kMeasurePoints,
+      &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+      &monocle_msgs_srv_dds__MeasurePoints_Response__desc, request,
+      [](const monocle_msgs_srv_dds__MeasurePoints_Response_& r)
+          -> ClientResult<std::vector<MeasuredPoint>> {
+        if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
+          return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
+        auto points = wire::FromSample(r);
+        if (!points) return ClientError{ClientError::Code::kFailed, points.error().message};
+        return std::move(points).value();
       });
 }
 
 ClientResult<Pose> Client::pose(const std::string& camera, PoseWhich which) {
-  auto& ch = impl_->poses;
-  std::lock_guard<std::mutex> lock(ch.mutex);
-  if (auto e = impl_->Ensure(ch, &monocle_dds_PoseRequest_desc, dds::kPoseRequestTopic,
-                             &monocle_dds_PoseReply_desc, dds::kPoseReplyTopic))
-    return *e;
-  monocle_dds_PoseRequest request{};
-  request.camera_id = const_cast<char*>(camera.c_str());
-  request.which = which == PoseWhich::kLatest ? 0 : 1;
-  return impl_->Call<Pose>(ch, request, "pose reply",
-                           [](const monocle_dds_PoseReply& r) -> ClientResult<Pose> {
-                             if (r.status != 0)
-                               return ClientError{FromReplyStatus(r.status), Text(r.error)};
-                             return ToPose(r.pose);
-                           });
+  monocle_msgs_srv_dds__GetPose_Request_ request{};
+  request.which = which == PoseWhich::kLatest ? monocle_msgs_msg_dds__POSE_LATEST
+                                              : monocle_msgs_msg_dds__POSE_NEXT_FRAME;
+  return impl_->Call<Pose>(
+      impl_->poses, camera, "corner", wire::kGetPose, &monocle_msgs_srv_dds__GetPose_Request__desc,
+      &monocle_msgs_srv_dds__GetPose_Response__desc, request,
+      [](const monocle_msgs_srv_dds__GetPose_Response_& r) -> ClientResult<Pose> {
+        if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
+          return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
+        return wire::FromSample(r.pose);
+      });
 }
 
 ClientResult<FloorCalibrationResult> Client::calibrate_floor(const std::string& camera,
                                                              int board_cols, int board_rows,
                                                              double square_m) {
-  auto& ch = impl_->floor;
-  std::lock_guard<std::mutex> lock(ch.mutex);
-  if (auto e = impl_->Ensure(
-          ch, &monocle_dds_FloorCalibrationRequest_desc, dds::kFloorCalibrationRequestTopic,
-          &monocle_dds_FloorCalibrationReply_desc, dds::kFloorCalibrationReplyTopic))
-    return *e;
-  monocle_dds_FloorCalibrationRequest request{};
-  request.camera_id = const_cast<char*>(camera.c_str());
+  monocle_msgs_srv_dds__CalibrateFloor_Request_ request{};
   request.board_cols = board_cols;
   request.board_rows = board_rows;
   request.square_m = square_m;
   return impl_->Call<FloorCalibrationResult>(
-      ch, request, "floor calibration reply",
-      [](const monocle_dds_FloorCalibrationReply& r) -> ClientResult<FloorCalibrationResult> {
-        if (r.status != 0) return ClientError{FromReplyStatus(r.status), Text(r.error)};
-        FloorCalibrationResult out;
-        out.floor = {
-            r.height_m, r.pitch, r.yaw, r.roll, {r.sigma[0], r.sigma[1], r.sigma[2], r.sigma[3]},
-            r.rms_px};
-        out.corners = r.corners;
-        out.frame_sequence = r.frame_sequence;
-        out.file = Text(r.file);
-        out.revision = r.revision;
-        return out;
+      impl_->floor, camera, "floor", wire::kCalibrateFloor,
+      &monocle_msgs_srv_dds__CalibrateFloor_Request__desc,
+      &monocle_msgs_srv_dds__CalibrateFloor_Response__desc, request,
+      [](const monocle_msgs_srv_dds__CalibrateFloor_Response_& r)
+          -> ClientResult<FloorCalibrationResult> {
+        if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
+          return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
+        return wire::FromSample(r);
       });
 }
 
 ClientResult<std::vector<CameraStatus>> Client::status() {
-  return impl_->Current<monocle_dds_CameraStatus, CameraStatus>(
-      &monocle_dds_CameraStatus_desc, dds::kStatusTopic, "status", ToStatus);
+  const auto deadline = Clock::now() + impl_->options.timeout;
+  // Wait for the first status, then a little longer for other services' cameras.
+  std::vector<Directory::Entry> entries;
+  for (;;) {
+    entries = impl_->directory->Update(kPoll);
+    const auto first = impl_->directory->first_heard();
+    if (first && Clock::now() - *first > 3 * kPoll) break;
+    if (Clock::now() >= deadline) break;
+  }
+  if (entries.empty()) return NoService(impl_->options.domain, impl_->options.timeout, "status");
+  std::vector<CameraStatus> out;
+  for (auto& e : entries) out.push_back(std::move(e.status));
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.ros_namespace, a.service) < std::tie(b.ros_namespace, b.service);
+  });
+  return out;
 }
 
 ClientResult<std::vector<Calibration>> Client::calibrations() {
-  return impl_->Current<monocle_dds_Calibration, Calibration>(
-      &monocle_dds_Calibration_desc, dds::kCalibrationTopic, "calibration", ToCalibration);
+  auto reader = dds::Endpoint<monocle_msgs_msg_dds__Calibration_>::Open(
+      impl_->participant, &monocle_msgs_msg_dds__Calibration__desc, wire::kCalibrationsTopic, false,
+      true, wire::kDirectoryReaderQos);
+  if (!reader) return DdsFailure(reader.error());
+  std::map<std::string, Calibration> by_namespace;
+  const auto deadline = Clock::now() + impl_->options.timeout;
+  std::optional<Clock::time_point> first;
+  while (Clock::now() < deadline && (!first || Clock::now() - *first < 3 * kPoll)) {
+    auto taken = reader->Take<Calibration>(
+        kPoll, [](const monocle_msgs_msg_dds__Calibration_& s) { return wire::FromSample(s); });
+    if (!taken) return DdsFailure(taken.error());
+    if (!taken->empty() && !first) first = Clock::now();
+    for (auto& c : *taken) {
+      auto& kept = by_namespace[c.ros_namespace];
+      if (c.revision >= kept.revision) kept = std::move(c);
+    }
+  }
+  if (by_namespace.empty())
+    return NoService(impl_->options.domain, impl_->options.timeout, "calibration");
+  std::vector<Calibration> out;
+  for (auto& [ns, c] : by_namespace) out.push_back(std::move(c));
+  return out;
 }
 
 ClientResult<Subscription> Client::subscribe_poses(std::function<void(const Pose&)> on_pose,
                                                    const std::string& camera) {
-  // A deeper reader history than the writer's: a briefly slow callback loses nothing.
-  return impl_->Subscribe<monocle_dds_CornerPose, Pose>(
-      &monocle_dds_CornerPose_desc, dds::kPoseTopic, {16, false},
-      [camera](const monocle_dds_CornerPose& s) -> std::optional<Pose> {
-        if (!camera.empty() && camera != Text(s.camera_id)) return std::nullopt;
-        return ToPose(s);
-      },
-      std::move(on_pose));
+  // Poses travel on each corner camera's own topic: follow the directory and open a reader
+  // for every matching camera as it appears (before or after the service starts).
+  auto directory = Directory::Open(impl_->participant);
+  if (!directory) return DdsFailure(directory.error());
+  Subscription sub;
+  sub.state_ = std::make_unique<Subscription::State>();
+  auto* state = sub.state_.get();
+  state->thread = std::thread([state, participant = impl_->participant, camera,
+                               directory = std::shared_ptr<Directory>(std::move(directory).value()),
+                               on_pose = std::move(on_pose)] {
+    using Reader = dds::Endpoint<monocle_msgs_msg_dds__CornerPose_>;
+    std::map<std::string, std::unique_ptr<Reader>> readers;  // by namespace
+    auto waitset = dds::WaitSet::Create(participant);
+    auto last_lookup = Clock::now() - kPoll * 10;
+    while (!state->stop) {
+      if (Clock::now() - last_lookup > 5 * kPoll) {
+        last_lookup = Clock::now();
+        for (const auto& e : directory->Update(milliseconds(0))) {
+          const auto& s = e.status;
+          if (!HasRole(s, "corner") || readers.count(s.ros_namespace) != 0) continue;
+          if (!camera.empty() && camera != s.camera_id && camera != s.ros_namespace) continue;
+          // A deeper history than ROS's default: a briefly slow callback loses nothing.
+          auto r = Reader::Open(participant, &monocle_msgs_msg_dds__CornerPose__desc,
+                                wire::CornerPoseTopic(s.ros_namespace).c_str(), false, true,
+                                {16, false});
+          if (!r) continue;
+          auto reader = std::make_unique<Reader>(std::move(r).value());
+          if (waitset) waitset->Attach(reader->reader());
+          readers[s.ros_namespace] = std::move(reader);
+        }
+      }
+      if (waitset) waitset->Wait(kPoll);
+      for (auto& [ns, reader] : readers) {
+        auto taken =
+            reader->Take<Pose>(milliseconds(0), [](const auto& s) { return wire::FromSample(s); });
+        if (!taken) continue;
+        for (const auto& p : *taken) {
+          if (!state->stop) on_pose(p);
+        }
+      }
+      if (readers.empty()) std::this_thread::sleep_for(kPoll);
+    }
+  });
+  return sub;
 }
 
 ClientResult<Subscription> Client::subscribe_status(
     std::function<void(const CameraStatus&)> on_status) {
-  return impl_->Subscribe<monocle_dds_CameraStatus, CameraStatus>(
-      &monocle_dds_CameraStatus_desc, dds::kStatusTopic, {1, true},
-      [](const monocle_dds_CameraStatus& s) -> std::optional<CameraStatus> { return ToStatus(s); },
-      std::move(on_status));
+  auto reader = dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>::Open(
+      impl_->participant, &monocle_msgs_msg_dds__CameraStatus__desc, wire::kCamerasTopic, false,
+      true, wire::kDirectoryReaderQos);
+  if (!reader) return DdsFailure(reader.error());
+  Subscription sub;
+  sub.state_ = std::make_unique<Subscription::State>();
+  auto* state = sub.state_.get();
+  state->thread = std::thread([state, reader = std::move(reader).value(),
+                               on_status = std::move(on_status)]() mutable {
+    while (!state->stop) {
+      auto taken = reader.Take<CameraStatus>(
+          kPoll, [](const monocle_msgs_msg_dds__CameraStatus_& s) { return wire::FromSample(s); });
+      if (!taken) continue;
+      for (const auto& s : *taken) {
+        if (!state->stop) on_status(s);
+      }
+    }
+  });
+  return sub;
 }
 
 }  // namespace monocle

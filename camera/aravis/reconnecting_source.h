@@ -9,10 +9,9 @@
 #include <string>
 
 #include "camera/aravis/aravis_source.h"
+#include "monocle/types.h"  // CameraState: one state type from the camera up to the client
 
 namespace monocle {
-
-enum class CameraState { kStreaming, kReconnecting };
 
 class ReconnectingSource : public FrameSource {
  public:

@@ -49,10 +49,10 @@ void CameraWorker::Stop() {
   if (acquisition_.joinable()) acquisition_.join();
   if (processing_.joinable()) processing_.join();
   std::lock_guard<std::mutex> lock(mutex_);
-  status_.state = WorkerState::kStopped;
+  status_.state = CameraState::kStopped;
 }
 
-void CameraWorker::SetState(WorkerState state, const std::string& error) {
+void CameraWorker::SetState(CameraState state, const std::string& error) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.state = state;
@@ -69,7 +69,7 @@ void CameraWorker::Acquire() {
       setup_.options,
       [this](CameraState s, const std::string& reason) {
         SetState(
-            s == CameraState::kStreaming ? WorkerState::kStreaming : WorkerState::kReconnecting,
+            s == CameraState::kStreaming ? CameraState::kStreaming : CameraState::kReconnecting,
             reason);
       },
       setup_.stall_timeout);
@@ -83,7 +83,7 @@ void CameraWorker::Acquire() {
       // A configuration error (unknown feature, value out of range) will not heal by waiting.
       if (frame.error().code == ErrorCode::kInvalidArgument ||
           frame.error().code == ErrorCode::kOutOfRange) {
-        SetState(WorkerState::kStopped, frame.error().message);
+        SetState(CameraState::kStopped, frame.error().message);
         return;
       }
       continue;

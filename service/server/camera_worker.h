@@ -14,14 +14,13 @@
 #include <vector>
 
 #include "camera/frame_source.h"
+#include "monocle/types.h"
 #include "service/io/calibration_file.h"
 #include "service/server/service_config.h"
 #include "service/vision/corner_locator.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle {
-
-enum class WorkerState : uint8_t { kStreaming = 0, kReconnecting = 1, kStopped = 2 };
 
 // One processed frame of a corner camera.
 struct ProcessedFrame {
@@ -33,7 +32,7 @@ struct ProcessedFrame {
 };
 
 struct WorkerStatus {
-  WorkerState state = WorkerState::kReconnecting;
+  CameraState state = CameraState::kReconnecting;
   double fps = 0;         // frames received per second since the last snapshot
   uint64_t frames = 0;    // since start
   uint64_t dropped = 0;   // frame id gaps: sent by the camera, never received
@@ -72,7 +71,7 @@ class CameraWorker {
  private:
   void Acquire();
   void Process();
-  void SetState(WorkerState state, const std::string& error);
+  void SetState(CameraState state, const std::string& error);
 
   const CameraSetup setup_;
   const OnProcessed on_processed_;

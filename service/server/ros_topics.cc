@@ -3,30 +3,24 @@
 #include <cstring>
 #include <iostream>
 
+#include "client/protocol/convert.h"
+#include "client/protocol/wire.h"
 #include "service/geometry/pose_covariance.h"
+#include "service/server/wire_values.h"
 
 namespace monocle {
 namespace {
 
-// ROS 2's default QoS (rmw_qos_profile_default): reliable, volatile, keep-last 10. A reliable
-// writer reaches both reliable and best-effort readers; a volatile one does not match a
-// transient-local reader, which ROS's default is not.
-constexpr dds::EndpointQos kRosDefaultQos{10, false};
+using wire::RosTime;
 
 char* Chars(const std::string& s) { return const_cast<char*>(s.c_str()); }
-
-builtin_interfaces_msg_dds__Time_ RosTime(int64_t unix_ns) {
-  builtin_interfaces_msg_dds__Time_ t{};
-  t.sec = static_cast<int32_t>(unix_ns / 1'000'000'000);
-  t.nanosec = static_cast<uint32_t>(unix_ns % 1'000'000'000);
-  return t;
-}
 
 template <typename T>
 Result<std::unique_ptr<dds::Endpoint<T>>> OpenWriter(const std::shared_ptr<dds::Entity>& p,
                                                      const dds_topic_descriptor_t* type,
-                                                     const std::string& topic) {
-  auto ep = dds::Endpoint<T>::Open(p, type, topic.c_str(), true, false, kRosDefaultQos);
+                                                     const std::string& topic,
+                                                     dds::EndpointQos qos = wire::kRosDefaultQos) {
+  auto ep = dds::Endpoint<T>::Open(p, type, topic.c_str(), true, false, qos);
   if (!ep) return ep.error();
   return std::make_unique<dds::Endpoint<T>>(std::move(ep).value());
 }
@@ -38,7 +32,7 @@ void Report(const Status& s) {
 }  // namespace
 
 std::string RosTopics::WireTopic(const CameraSetup& camera, const std::string& leaf) {
-  return "rt" + camera.ros_namespace + "/" + leaf;
+  return wire::RosTopic(camera.ros_namespace, leaf);
 }
 
 Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::Entity>& p,
@@ -46,7 +40,21 @@ Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::En
   std::unique_ptr<RosTopics> r(new RosTopics());
   for (const auto& cam : cameras) {
     PerCamera& c = r->cameras_[cam.id];
+    auto status = OpenWriter<monocle_msgs_msg_dds__CameraStatus_>(
+        p, &monocle_msgs_msg_dds__CameraStatus__desc, wire::kCamerasTopic,
+        wire::kDirectoryWriterQos);
+    if (!status) return status.error();
+    c.status = std::move(status).value();
+    auto calibration = OpenWriter<monocle_msgs_msg_dds__Calibration_>(
+        p, &monocle_msgs_msg_dds__Calibration__desc, wire::kCalibrationsTopic,
+        wire::kDirectoryWriterQos);
+    if (!calibration) return calibration.error();
+    c.calibration = std::move(calibration).value();
     if (cam.corner()) {
+      auto corner_pose = OpenWriter<monocle_msgs_msg_dds__CornerPose_>(
+          p, &monocle_msgs_msg_dds__CornerPose__desc, wire::CornerPoseTopic(cam.ros_namespace));
+      if (!corner_pose) return corner_pose.error();
+      c.corner_pose = std::move(corner_pose).value();
       auto pose = OpenWriter<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>(
           p, &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, WireTopic(cam, "pose"));
       if (!pose) return pose.error();
@@ -72,11 +80,36 @@ Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::En
   return r;
 }
 
+void RosTopics::PublishStatus(const CameraSetup& camera, const CameraStatus& status) {
+  const auto it = cameras_.find(camera.id);
+  if (it == cameras_.end()) return;
+  monocle_msgs_msg_dds__CameraStatus_ sample;
+  wire::ToSample(status, camera.ros_frame, &sample);
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  Report(it->second.status->Write(sample));
+}
+
+void RosTopics::PublishCalibration(const CameraSetup& camera, const Calibration& calibration) {
+  const auto it = cameras_.find(camera.id);
+  if (it == cameras_.end()) return;
+  monocle_msgs_msg_dds__Calibration_ sample;
+  wire::ToSample(calibration, &sample);
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  Report(it->second.calibration->Write(sample));
+}
+
 void RosTopics::PublishPose(const CameraSetup& camera, const ProcessedFrame& frame) {
   const auto it = cameras_.find(camera.id);
-  // A suspect pose is published on monocle's own topic with its reason; a ROS consumer
-  // fusing poses cannot see that flag, so it is not given one.
-  if (it == cameras_.end() || !it->second.pose || !frame.corner || frame.corner->suspect) return;
+  if (it == cameras_.end() || !it->second.corner_pose) return;
+  {
+    const Pose value = PoseOf(camera, frame);
+    monocle_msgs_msg_dds__CornerPose_ sample;
+    wire::ToSample(value, &sample);
+    Report(it->second.corner_pose->Write(sample));
+  }
+  // A suspect pose is published on corner_pose with its reason; a ROS consumer fusing
+  // poses from pose or tf cannot see that flag, so it is not given one.
+  if (!frame.corner || frame.corner->suspect) return;
   const CornerLocation& c = *frame.corner;
   const Eigen::Vector3d position = CameraPosition(c.pose);
   const Eigen::Matrix<double, 6, 6> covariance = RosPoseCovariance(c.pose, c.covariance);
@@ -169,10 +202,10 @@ void RosTopics::PublishDiagnostics(
     auto& s = status[i];
     auto& t = text[i];
     // OK while streaming; ERROR while the camera is lost (no measurements); STALE once stopped.
-    s.level = st.state == WorkerState::kStreaming ? 0 : st.state == WorkerState::kStopped ? 3 : 2;
+    s.level = st.state == CameraState::kStreaming ? 0 : st.state == CameraState::kStopped ? 3 : 2;
     t[0] = "monocle: " + setup->id;
-    t[1] = st.state == WorkerState::kStreaming ? "streaming"
-           : st.state == WorkerState::kStopped ? "stopped"
+    t[1] = st.state == CameraState::kStreaming ? "streaming"
+           : st.state == CameraState::kStopped ? "stopped"
            : st.last_error.empty()             ? "reconnecting"
                                                : "reconnecting: " + st.last_error;
     s.name = Chars(t[0]);

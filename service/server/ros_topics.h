@@ -1,12 +1,14 @@
-// What monocled says in ROS 2's own terms, on plain Cyclone DDS with rmw_cyclonedds_cpp's
-// wire conventions (topic rt/<name>, types <pkg>::msg::dds_::<Name>_, ROS 2's default QoS:
-// reliable, volatile, keep-last 10). Per camera, under its namespace (default
-// /monocle/<camera>):
+// Every topic monocled publishes, in ROS 2's own terms on plain Cyclone DDS with
+// rmw_cyclonedds_cpp's wire conventions (client/protocol/wire.h). Per camera, under its
+// namespace (default /monocle/<camera>):
+//   <ns>/corner_pose  monocle_msgs/CornerPose, every processed frame (with or without a pose)
 //   <ns>/pose         geometry_msgs/PoseWithCovarianceStamped, every valid, unsuspected pose
 //   <ns>/camera_info  sensor_msgs/CameraInfo (plumb_bob), every status period
 //   <ns>/image_raw    sensor_msgs/Image mono8, only while subscribed, at most image_max_rate_hz
-// and for all cameras /tf (tf2_msgs/TFMessage, parent frame -> <camera>_optical) and
-// /diagnostics (diagnostic_msgs/DiagnosticArray, every status period).
+// and for all cameras /tf (tf2_msgs/TFMessage, parent frame -> <camera>_optical),
+// /diagnostics (diagnostic_msgs/DiagnosticArray, every status period), /monocle/cameras
+// (monocle_msgs/CameraStatus) and /monocle/calibrations (monocle_msgs/Calibration), the last
+// two with one transient-local writer per camera.
 #pragma once
 
 #include <chrono>
@@ -16,9 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "client/protocol/dds.h"
+#include "idl/monocle_msgs.h"
 #include "idl/ros2_messages.h"
 #include "service/server/camera_worker.h"
-#include "service/server/dds.h"
 #include "service/server/service_config.h"
 
 namespace monocle {
@@ -28,8 +31,11 @@ class RosTopics {
   static Result<std::unique_ptr<RosTopics>> Open(const std::shared_ptr<dds::Entity>& participant,
                                                  const std::vector<CameraSetup>& cameras);
 
-  // The pose (and its tf) of a processed frame; nothing for a frame without a valid pose.
+  // The pose of a processed frame on corner_pose; and, if valid and not suspect, on pose
+  // and tf.
   void PublishPose(const CameraSetup& camera, const ProcessedFrame& frame);
+  void PublishStatus(const CameraSetup& camera, const CameraStatus& status);
+  void PublishCalibration(const CameraSetup& camera, const Calibration& calibration);
   // The frame itself, if someone subscribes and the camera's rate limit allows.
   void PublishImage(const CameraSetup& camera, const Frame& frame);
   void PublishCameraInfo(const CameraSetup& camera, const CameraIntrinsics& k, int64_t stamp_ns);
@@ -41,6 +47,9 @@ class RosTopics {
 
  private:
   struct PerCamera {
+    std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CornerPose_>> corner_pose;
+    std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>> status;
+    std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__Calibration_>> calibration;
     std::unique_ptr<dds::Endpoint<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> pose;
     std::unique_ptr<dds::Endpoint<sensor_msgs_msg_dds__CameraInfo_>> camera_info;
     std::unique_ptr<dds::Endpoint<sensor_msgs_msg_dds__Image_>> image;
@@ -51,7 +60,8 @@ class RosTopics {
   std::map<std::string, PerCamera> cameras_;  // by camera id
   std::unique_ptr<dds::Endpoint<tf2_msgs_msg_dds__TFMessage_>> tf_;
   std::unique_ptr<dds::Endpoint<diagnostic_msgs_msg_dds__DiagnosticArray_>> diagnostics_;
-  std::mutex image_mutex_;  // last_image of every camera
+  std::mutex image_mutex_;   // last_image of every camera
+  std::mutex status_mutex_;  // status and calibration writes come from several threads
 };
 
 }  // namespace monocle

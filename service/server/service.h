@@ -1,22 +1,23 @@
 // The monocle service: its cameras (one CameraWorker each) and everything it says and answers
-// over DDS: poses, calibrations, status, and the point, pose and floor calibration requests.
-// See README "The service over DDS" for the topics.
+// over DDS, in ROS 2's conventions (client/protocol/wire.h): poses, status, calibrations and
+// the camera's image on topics (ros_topics.h), and per camera the services measure_points,
+// get_pose and calibrate_floor, each served by its own handler.
 #pragma once
 
 #include <atomic>
-#include <chrono>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <shared_mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
-#include "idl/monocle.h"
+#include "client/protocol/dds.h"
+#include "service/server/calibration_store.h"
 #include "service/server/camera_worker.h"
-#include "service/server/dds.h"
-#include "service/server/reply_publisher.h"
+#include "service/server/duplicate_watch.h"
+#include "service/server/floor_calibration_handler.h"
+#include "service/server/point_query_handler.h"
+#include "service/server/pose_query_handler.h"
 #include "service/server/ros_topics.h"
 #include "service/server/service_config.h"
 
@@ -31,62 +32,35 @@ class Service {
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
 
-  // Publishes every camera's status; call once per status period.
+  // Publishes every camera's status; call once per status period. Also reports (once) any
+  // other monocled on the domain serving one of our camera namespaces.
   void PublishStatus();
-  // Stops the handlers and the cameras, then publishes their stopped status.
+  // Stops the cameras and the handlers, then publishes the cameras' stopped status.
   void Stop();
+  // This monocled on the domain: host/pid.
+  const std::string& id() const { return service_id_; }
 
  private:
-  struct PendingPose {
-    std::string client_id, camera_id;
-    uint64_t request_id = 0;
-    std::chrono::steady_clock::time_point deadline;
-  };
-
   Service() = default;
-  void OnProcessed(const std::string& camera_id, const ProcessedFrame& frame);
+  void OnProcessed(const CameraSetup& camera, const ProcessedFrame& frame);
   WorkerStatus PublishStatusOf(CameraWorker& worker, bool new_period);  // and returns it
-  void PublishCalibration(const std::string& camera_id, const CameraCalibration& calibration);
-  void ServePointRequests();
-  void ServePoseRequests();
-  void ServeFloorCalibrationRequests();
-  void ReplyPose(const std::string& client_id, uint64_t request_id, uint8_t status,
-                 const std::string& error, const std::string& camera_id,
-                 const ProcessedFrame* frame);
+  void PublishCalibration(const CameraSetup& camera, const CameraCalibration& calibration,
+                          uint64_t revision);
   CameraWorker* Find(const std::string& camera_id);
 
-  ServiceSetup setup_;
+  ServiceSetup setup_;  // handlers and topics keep pointers to its cameras
+  std::string service_id_;
   std::shared_ptr<dds::Entity> participant_;
-  std::unique_ptr<dds::Endpoint<monocle_dds_CornerPose>> poses_;
-  std::unique_ptr<dds::Endpoint<monocle_dds_Calibration>> calibrations_;
-  std::unique_ptr<dds::Endpoint<monocle_dds_CameraStatus>> status_;
-  std::unique_ptr<dds::Endpoint<monocle_dds_PointRequest>> point_requests_;
-  std::unique_ptr<dds::ReplyPublisher<monocle_dds_PointReply>> point_replies_;
-  std::unique_ptr<dds::Endpoint<monocle_dds_PoseRequest>> pose_requests_;
-  std::unique_ptr<dds::ReplyPublisher<monocle_dds_PoseReply>> pose_replies_;
-  std::unique_ptr<dds::Endpoint<monocle_dds_FloorCalibrationRequest>> floor_requests_;
-  std::unique_ptr<dds::ReplyPublisher<monocle_dds_FloorCalibrationReply>> floor_replies_;
-
-  // The same measurements in ROS 2's terms (ros_topics.h).
-  std::unique_ptr<RosTopics> ros_;
-  std::mutex ros_intrinsics_mutex_;
-  std::map<std::string, CameraIntrinsics> ros_intrinsics_;  // for camera_info, by camera
-
+  CalibrationStore calibrations_;
+  std::unique_ptr<RosTopics> topics_;
+  std::unique_ptr<DuplicateWatch> duplicates_;
+  std::mutex intrinsics_mutex_;
+  std::map<std::string, CameraIntrinsics> intrinsics_;  // for camera_info, by camera
   std::vector<std::unique_ptr<CameraWorker>> workers_;
-
-  // Floor calibrations for point queries; replaced by floor calibration commands.
-  std::shared_mutex floor_mutex_;
-  std::map<std::string, CameraCalibration> floor_calibrations_;
-  std::mutex calibration_mutex_;  // serialises calibration changes and their revisions
-  std::map<std::string, uint64_t> revisions_;
-
-  std::mutex pose_mutex_;
-  std::map<std::string, ProcessedFrame> latest_pose_;
-  std::vector<PendingPose> pending_next_;
-
-  std::mutex status_mutex_;
+  std::unique_ptr<PointQueryHandler> point_queries_;
+  std::unique_ptr<PoseQueryHandler> pose_queries_;
+  std::unique_ptr<FloorCalibrationHandler> floor_calibration_;
   std::atomic<bool> stop_{false};
-  std::thread point_thread_, pose_thread_, floor_thread_;
 };
 
 }  // namespace monocle

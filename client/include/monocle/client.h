@@ -23,12 +23,7 @@
 #include <variant>
 #include <vector>
 
-// The library is built with hidden symbols; this marks its public interface.
-#if defined(__GNUC__)
-#define MONOCLE_CLIENT_API __attribute__((visibility("default")))
-#else
-#define MONOCLE_CLIENT_API
-#endif
+#include "monocle/types.h"
 
 namespace monocle {
 
@@ -44,6 +39,10 @@ struct ClientError {
 };
 
 MONOCLE_CLIENT_API std::ostream& operator<<(std::ostream& os, const ClientError& e);
+
+// Camera namespaces claimed by more than one running monocled, in words ("" if none): their
+// topics and requests would mix. Give each robot its own ros_namespace.
+MONOCLE_CLIENT_API std::string DuplicateCameras(const std::vector<CameraStatus>& cameras);
 
 // A value or a ClientError (a small stand-in for C++23 std::expected).
 template <typename T>
@@ -64,86 +63,6 @@ class ClientResult {
 
  private:
   std::variant<T, ClientError> data_;
-};
-
-// A floor pixel, or a pixel standing vertically above the floor pixel `floor_px`.
-struct PixelQuery {
-  double u = 0, v = 0;                            // pixels
-  std::optional<std::array<double, 2>> floor_px;  // (u, v) of the point's foot on the floor
-};
-
-struct MeasuredPoint {
-  enum class Status : uint8_t { kMeasured = 0, kInvalidPixel = 1, kNotMeasurable = 2 };
-  Status status = Status::kMeasured;
-  std::array<double, 3> p_robot_m{};  // x, y, z in the robot frame, metres
-  std::array<double, 3> sigma_m{};    // 1-sigma of x, y, z, metres
-  std::string error;                  // why not measured
-  bool ok() const { return status == Status::kMeasured; }
-};
-
-struct Pose {
-  std::string camera_id;
-  uint64_t frame_sequence = 0;  // the camera's frame id
-  int64_t capture_time_ns = 0;  // Unix time of reception (or camera time if camera_clock)
-  bool camera_clock = false;    // capture_time_ns is the camera's PTP clock
-  bool valid = false;           // false: no corner in this frame, see `error`
-  std::string error;
-  double x_m = 0, y_m = 0, z_m = 0;                 // camera in the corner frame
-  double pan_rad = 0, tilt_rad = 0, swing_rad = 0;  // Chou & Tsai eq. (1)
-  std::array<double, 4> quaternion_wxyz{};          // camera (OpenCV axes) -> corner frame
-  std::array<double, 25> covariance{};              // row-major 5x5 of (x, y, pan, tilt, swing)
-  std::array<double, 2> corner_px{};
-  double rms_px = 0;          // edge points to fitted lines
-  int64_t processing_ns = 0;  // frame received -> pose computed
-  bool tracked = false;       // followed from the previous frame's edges (false: detected)
-  bool suspect = false;       // the edges support the pose poorly; `suspect_reason` says how
-  std::string suspect_reason;
-};
-
-enum class PoseWhich { kLatest, kNextFrame };
-
-enum class CameraState : uint8_t { kStreaming = 0, kReconnecting = 1, kStopped = 2 };
-MONOCLE_CLIENT_API const char* ToString(
-    CameraState state);  // "streaming", "reconnecting", "stopped"
-
-struct CameraStatus {
-  std::string camera_id, device, role;  // role: "corner", "floor" or "corner+floor"
-  CameraState state = CameraState::kReconnecting;
-  double fps = 0;         // frames per second over the last status period
-  uint64_t frames = 0;    // received since the service started
-  uint64_t dropped = 0;   // sent by the camera, never received
-  uint64_t skipped = 0;   // not processed because processing was busy
-  double latency_ms = 0;  // frame received -> result published, median of the period
-  std::string last_error;
-  int64_t last_error_ns = 0;  // Unix time, 0 if none
-  int64_t stamp_ns = 0;       // Unix time of this status
-};
-
-struct FloorPoseEstimate {
-  double height_m = 0, pitch_rad = 0, yaw_rad = 0, roll_rad = 0;
-  std::array<double, 4> sigma{};  // 1-sigma of height (m), pitch, yaw, roll (rad)
-  double rms_px = 0;
-};
-
-struct FloorCalibrationResult {
-  FloorPoseEstimate floor;
-  uint32_t corners = 0;         // board corners used
-  uint64_t frame_sequence = 0;  // the frame calibrated from
-  std::string file;             // written (atomically) on the service's machine
-  uint64_t revision = 0;        // of the calibration now published
-};
-
-struct Calibration {
-  std::string camera_id;
-  uint64_t revision = 0;
-  int64_t updated_ns = 0;
-  int width_px = 0, height_px = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
-  std::array<double, 8> distortion{};     // OpenCV k1 k2 p1 p2 k3 k4 k5 k6
-  std::optional<FloorPoseEstimate> floor;
-  std::optional<double> ceiling_distance_m;
-  std::string file;  // on the service's machine
-  std::string text;  // the calibration file's contents (text protobuf)
 };
 
 // Delivers callbacks until destroyed (or stop()); the callback never runs after that.
@@ -175,6 +94,9 @@ class MONOCLE_CLIENT_API Client {
   Client(Client&&) noexcept;
   Client& operator=(Client&&) noexcept;
 
+  // `camera` is a camera's id ("sim-floor") or, where several robots share a domain, its ROS
+  // namespace ("/robot1/monocle/front"); monocle status lists both.
+  //
   // Floor pixels -> robot-frame points with 1-sigma, one result per pixel, in order (a bad
   // pixel is a result with its own error). `pixel_sigma_px` 0: the service's default 0.5 px.
   ClientResult<std::vector<MeasuredPoint>> measure(const std::string& camera,
@@ -186,7 +108,7 @@ class MONOCLE_CLIENT_API Client {
   // (cols x rows inner corners, squares of `square_m`); the service stores and publishes it.
   ClientResult<FloorCalibrationResult> calibrate_floor(const std::string& camera, int board_cols,
                                                        int board_rows, double square_m);
-  // The current status and calibration of every camera.
+  // The current status and calibration of every camera of every monocled on the domain.
   ClientResult<std::vector<CameraStatus>> status();
   ClientResult<std::vector<Calibration>> calibrations();
 

@@ -1,4 +1,4 @@
-#include "service/server/dds.h"
+#include "client/protocol/dds.h"
 
 namespace monocle::dds {
 

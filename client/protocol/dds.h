@@ -8,23 +8,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "service/common/result.h"
 
 namespace monocle::dds {
-
-// The monocle topic names.
-inline constexpr const char* kPoseTopic = "monocle/pose";
-inline constexpr const char* kPointRequestTopic = "monocle/point_request";
-inline constexpr const char* kPointReplyTopic = "monocle/point_reply";
-inline constexpr const char* kCalibrationTopic = "monocle/calibration";
-inline constexpr const char* kStatusTopic = "monocle/status";
-inline constexpr const char* kPoseRequestTopic = "monocle/pose_request";
-inline constexpr const char* kPoseReplyTopic = "monocle/pose_reply";
-inline constexpr const char* kFloorCalibrationRequestTopic = "monocle/floor_calibration_request";
-inline constexpr const char* kFloorCalibrationReplyTopic = "monocle/floor_calibration_reply";
 
 struct EndpointQos {
   int history_depth = 1;         // samples kept per instance (keep-last)
@@ -83,8 +73,10 @@ class Endpoint {
     // A slow subscriber must never stall the publisher: keep only the latest samples.
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, eq.history_depth);
     if (eq.transient_local) dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+    // The topic with default QoS: several endpoints of one participant share a topic and
+    // may differ in history and durability, which belong to each reader and writer.
     const dds_entity_t topic =
-        dds_create_topic(ep.participant_->get(), type, topic_name, qos, nullptr);
+        dds_create_topic(ep.participant_->get(), type, topic_name, nullptr, nullptr);
     if (topic < 0) {
       dds_delete_qos(qos);
       return DdsError(std::string("cannot create topic ") + topic_name, topic);
@@ -133,6 +125,15 @@ class Endpoint {
     return dds_get_publication_matched_status(writer_.get(), &st) >= 0 && st.current_count > 0;
   }
 
+  // Whether this endpoint's reader matches some writer now.
+  bool HasWriters() const {
+    dds_subscription_matched_status_t st{};
+    return dds_get_subscription_matched_status(reader_.get(), &st) >= 0 && st.current_count > 0;
+  }
+
+  dds_entity_t reader() const { return reader_.get(); }
+  dds_entity_t writer() const { return writer_.get(); }
+
   // Forgets an instance (e.g. an old reply) so kept history does not grow without bound.
   void Unregister(const T& key_holder) { dds_unregister_instance(writer_.get(), &key_holder); }
 
@@ -142,22 +143,31 @@ class Endpoint {
     return Ok{};
   }
 
-  // Waits up to `timeout` for samples; returns those taken (valid data only). `copy` turns
-  // the loaned C sample into the caller's type before the loan is returned.
+  // Waits up to `timeout` for samples (0: takes what is there); returns those taken (valid
+  // data only, at most 16). `copy(sample)` or `copy(sample, info)` turns the loaned C sample
+  // into the caller's type before the loan is returned.
   template <typename Out, typename Copy>
   Result<std::vector<Out>> Take(std::chrono::milliseconds timeout, Copy copy) {
     std::vector<Out> out;
-    const dds_return_t rc = dds_waitset_wait(
-        waitset_.get(), nullptr, 0,
-        DDS_MSECS(std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count()));
-    if (rc < 0) return DdsError("waiting for samples failed", rc);
+    if (timeout.count() > 0) {
+      const dds_return_t rc = dds_waitset_wait(
+          waitset_.get(), nullptr, 0,
+          DDS_MSECS(std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count()));
+      if (rc < 0) return DdsError("waiting for samples failed", rc);
+    }
     constexpr int kMax = 16;
     void* samples[kMax] = {};
     dds_sample_info_t infos[kMax];
     const dds_return_t n = dds_take(reader_.get(), samples, infos, kMax, kMax);
     if (n < 0) return DdsError("cannot take samples", n);
     for (int i = 0; i < n; ++i) {
-      if (infos[i].valid_data) out.push_back(copy(*static_cast<const T*>(samples[i])));
+      if (!infos[i].valid_data) continue;
+      const T& sample = *static_cast<const T*>(samples[i]);
+      if constexpr (std::is_invocable_v<Copy, const T&, const dds_sample_info_t&>) {
+        out.push_back(copy(sample, infos[i]));
+      } else {
+        out.push_back(copy(sample));
+      }
     }
     dds_return_loan(reader_.get(), samples, n);
     return out;
@@ -167,6 +177,34 @@ class Endpoint {
   // Declared first so it is deleted last (deleting it deletes its children too).
   std::shared_ptr<Entity> participant_;
   Entity writer_, reader_, waitset_;
+};
+
+// Waits for samples on several readers at once (one thread serving many endpoints).
+class WaitSet {
+ public:
+  static Result<WaitSet> Create(std::shared_ptr<Entity> participant) {
+    WaitSet ws;
+    ws.participant_ = std::move(participant);
+    ws.waitset_ = Entity(dds_create_waitset(ws.participant_->get()));
+    if (ws.waitset_.get() < 0) return DdsError("cannot create a DDS waitset", ws.waitset_.get());
+    return ws;
+  }
+  // The read condition belongs to the reader and is deleted with it.
+  Status Attach(dds_entity_t reader) {
+    const dds_entity_t cond = dds_create_readcondition(reader, DDS_ANY_STATE);
+    if (cond < 0) return DdsError("cannot create a read condition", cond);
+    const dds_return_t rc = dds_waitset_attach(waitset_.get(), cond, 0);
+    if (rc < 0) return DdsError("cannot attach to a waitset", rc);
+    return Ok{};
+  }
+  // Until some attached reader has data, or `timeout`.
+  void Wait(std::chrono::milliseconds timeout) {
+    dds_waitset_wait(waitset_.get(), nullptr, 0, DDS_MSECS(timeout.count()));
+  }
+
+ private:
+  std::shared_ptr<Entity> participant_;
+  Entity waitset_;
 };
 
 }  // namespace monocle::dds

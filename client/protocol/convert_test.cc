@@ -1,0 +1,247 @@
+// Round trips of every conversion between monocle's values and their DDS samples, and the
+// refusals of malformed columns.
+#include "client/protocol/convert.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace monocle::wire {
+namespace {
+
+TEST(ConvertTest, PoseRoundTrip) {
+  Pose p;
+  p.camera_id = "ceiling";
+  p.frame_id = "corner";
+  p.frame_sequence = 42;
+  p.capture_time_ns = 1'700'000'000'123'456'789;
+  p.camera_clock = true;
+  p.valid = true;
+  p.x_m = 1.5;
+  p.y_m = -2.25;
+  p.z_m = 2.7;
+  p.pan_rad = 0.1;
+  p.tilt_rad = -0.6;
+  p.swing_rad = 0.05;
+  p.quaternion_wxyz = {0.9, 0.1, -0.3, 0.2};
+  for (size_t i = 0; i < 25; ++i) p.covariance[i] = static_cast<double>(i) * 0.5;
+  p.corner_px = {640.5, 100.25};
+  p.rms_px = 0.3;
+  p.processing_ns = 1234567;
+  p.tracked = true;
+  p.suspect = true;
+  p.suspect_reason = "one edge is short";
+  monocle_msgs_msg_dds__CornerPose_ s;
+  ToSample(p, &s);
+  // ROS's quaternion order is x, y, z, w.
+  EXPECT_EQ(s.orientation.w, 0.9);
+  EXPECT_EQ(s.orientation.x, 0.1);
+  EXPECT_EQ(s.header.stamp.sec, 1'700'000'000);
+  EXPECT_EQ(s.header.stamp.nanosec, 123'456'789u);
+  const Pose back = FromSample(s);
+  EXPECT_EQ(back.camera_id, p.camera_id);
+  EXPECT_EQ(back.frame_id, p.frame_id);
+  EXPECT_EQ(back.frame_sequence, p.frame_sequence);
+  EXPECT_EQ(back.capture_time_ns, p.capture_time_ns);
+  EXPECT_EQ(back.camera_clock, p.camera_clock);
+  EXPECT_EQ(back.valid, p.valid);
+  EXPECT_EQ(back.x_m, p.x_m);
+  EXPECT_EQ(back.y_m, p.y_m);
+  EXPECT_EQ(back.z_m, p.z_m);
+  EXPECT_EQ(back.pan_rad, p.pan_rad);
+  EXPECT_EQ(back.tilt_rad, p.tilt_rad);
+  EXPECT_EQ(back.swing_rad, p.swing_rad);
+  EXPECT_EQ(back.quaternion_wxyz, p.quaternion_wxyz);
+  EXPECT_EQ(back.covariance, p.covariance);
+  EXPECT_EQ(back.corner_px, p.corner_px);
+  EXPECT_EQ(back.rms_px, p.rms_px);
+  EXPECT_EQ(back.processing_ns, p.processing_ns);
+  EXPECT_EQ(back.tracked, p.tracked);
+  EXPECT_EQ(back.suspect, p.suspect);
+  EXPECT_EQ(back.suspect_reason, p.suspect_reason);
+
+  Pose none;
+  none.error = "no corner";
+  ToSample(none, &s);
+  EXPECT_EQ(s.status, monocle_msgs_msg_dds__POSE_NO_CORNER);
+  EXPECT_FALSE(FromSample(s).valid);
+  EXPECT_EQ(FromSample(s).error, "no corner");
+}
+
+TEST(ConvertTest, RosTimeOfTimesBefore1970KeepsNanosecondsPositive) {
+  const auto t = RosTime(-1);
+  EXPECT_EQ(t.sec, -1);
+  EXPECT_EQ(t.nanosec, 999'999'999u);
+  EXPECT_EQ(UnixNs(t), -1);
+}
+
+TEST(ConvertTest, StatusAndCalibrationRoundTrip) {
+  CameraStatus c;
+  c.camera_id = "floor";
+  c.device = "sim-floor";
+  c.role = "floor";
+  c.ros_namespace = "/robot1/monocle/floor";
+  c.service = "host/123";
+  c.state = CameraState::kReconnecting;
+  c.fps = 29.5;
+  c.frames = 100;
+  c.dropped = 2;
+  c.skipped = 3;
+  c.latency_ms = 12.5;
+  c.last_error = "camera lost";
+  c.last_error_ns = 55;
+  c.stamp_ns = 1'000'000'007;
+  monocle_msgs_msg_dds__CameraStatus_ s;
+  ToSample(c, "floor_optical", &s);
+  EXPECT_STREQ(s.header.frame_id, "floor_optical");
+  const CameraStatus b = FromSample(s);
+  EXPECT_EQ(b.camera_id, c.camera_id);
+  EXPECT_EQ(b.device, c.device);
+  EXPECT_EQ(b.role, c.role);
+  EXPECT_EQ(b.ros_namespace, c.ros_namespace);
+  EXPECT_EQ(b.service, c.service);
+  EXPECT_EQ(b.state, c.state);
+  EXPECT_EQ(b.fps, c.fps);
+  EXPECT_EQ(b.frames, c.frames);
+  EXPECT_EQ(b.dropped, c.dropped);
+  EXPECT_EQ(b.skipped, c.skipped);
+  EXPECT_EQ(b.latency_ms, c.latency_ms);
+  EXPECT_EQ(b.last_error, c.last_error);
+  EXPECT_EQ(b.last_error_ns, c.last_error_ns);
+  EXPECT_EQ(b.stamp_ns, c.stamp_ns);
+
+  Calibration k;
+  k.camera_id = "floor";
+  k.ros_namespace = "/monocle/floor";
+  k.revision = 3;
+  k.updated_ns = 99;
+  k.width_px = 1280;
+  k.height_px = 1024;
+  k.fx = 1000;
+  k.fy = 1001;
+  k.cx = 640;
+  k.cy = 512;
+  k.distortion = {0.1, -0.2, 0.001, 0.002, 0.03, 0, 0, 0};
+  k.floor = FloorPoseEstimate{1.05, 0.5, 0.01, -0.02, {0.001, 0.002, 0.003, 0.004}, 0.2};
+  k.ceiling_distance_m = 2.5;
+  k.file = "/var/lib/monocle/floor.pb.txt";
+  k.text = "intrinsics { }";
+  monocle_msgs_msg_dds__Calibration_ ks;
+  ToSample(k, &ks);
+  const Calibration kb = FromSample(ks);
+  EXPECT_EQ(kb.camera_id, k.camera_id);
+  EXPECT_EQ(kb.ros_namespace, k.ros_namespace);
+  EXPECT_EQ(kb.revision, k.revision);
+  EXPECT_EQ(kb.updated_ns, k.updated_ns);
+  EXPECT_EQ(kb.width_px, k.width_px);
+  EXPECT_EQ(kb.height_px, k.height_px);
+  EXPECT_EQ(kb.fy, k.fy);
+  EXPECT_EQ(kb.cy, k.cy);
+  EXPECT_EQ(kb.distortion, k.distortion);
+  ASSERT_TRUE(kb.floor.has_value());
+  EXPECT_EQ(kb.floor->pitch_rad, 0.5);
+  EXPECT_EQ(kb.floor->sigma, k.floor->sigma);
+  EXPECT_EQ(kb.ceiling_distance_m, k.ceiling_distance_m);
+  EXPECT_EQ(kb.file, k.file);
+  EXPECT_EQ(kb.text, k.text);
+  k.floor.reset();
+  k.ceiling_distance_m.reset();
+  ToSample(k, &ks);
+  EXPECT_FALSE(FromSample(ks).floor.has_value());
+  EXPECT_FALSE(FromSample(ks).ceiling_distance_m.has_value());
+}
+
+TEST(ConvertTest, PointRequestColumnsRoundTrip) {
+  const std::vector<PixelQuery> pixels = {{640, 900, std::nullopt},
+                                          {600, 500, std::array<double, 2>{600, 900}}};
+  PointRequestColumns columns;
+  monocle_msgs_srv_dds__MeasurePoints_Request_ s;
+  ToSample(pixels, 0.7, &columns, &s);
+  EXPECT_EQ(s.pixel_sigma_px, 0.7);
+  ASSERT_EQ(s.foot_u._length, 2u);
+  EXPECT_TRUE(std::isnan(s.foot_u._buffer[0]));
+  auto back = FromSample(s);
+  ASSERT_TRUE(back.ok()) << back.error();
+  ASSERT_EQ(back->size(), 2u);
+  EXPECT_EQ((*back)[0].u, 640);
+  EXPECT_FALSE((*back)[0].floor_px.has_value());
+  ASSERT_TRUE((*back)[1].floor_px.has_value());
+  EXPECT_EQ((*(*back)[1].floor_px)[1], 900);
+
+  // Floor pixels only: no foot columns at all.
+  ToSample({{1, 2, std::nullopt}}, 0, &columns, &s);
+  EXPECT_EQ(s.foot_u._length, 0u);
+  ASSERT_TRUE(FromSample(s).ok());
+
+  // A foot half given is a foot (rejected later as an invalid pixel), not a floor pixel.
+  ToSample(pixels, 0, &columns, &s);
+  columns.foot_v[0] = 3;
+  back = FromSample(s);
+  ASSERT_TRUE(back.ok());
+  EXPECT_TRUE((*back)[0].floor_px.has_value());
+}
+
+TEST(ConvertTest, MalformedPointColumnsAreRefusedWithWhatIsWrong) {
+  std::vector<double> u = {1, 2, 3}, v = {1, 2}, foot = {1};
+  monocle_msgs_srv_dds__MeasurePoints_Request_ s{};
+  s.u = {3, 3, u.data(), false};
+  s.v = {2, 2, v.data(), false};
+  auto r = FromSample(s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("u has 3 pixels but v has 2"), std::string::npos)
+      << r.error().message;
+  s.v = {3, 3, u.data(), false};
+  s.foot_u = {1, 1, foot.data(), false};
+  r = FromSample(s);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("foot_u and foot_v"), std::string::npos) << r.error().message;
+}
+
+TEST(ConvertTest, PointReplyRoundTrip) {
+  std::vector<MeasuredPoint> points(3);
+  points[0].p_robot_m = {0.1, 2.0, 0};
+  points[0].sigma_m = {0.01, 0.02, 0};
+  points[1].status = MeasuredPoint::Status::kNotMeasurable;
+  points[1].error = "above the horizon";
+  points[2].status = MeasuredPoint::Status::kInvalidPixel;
+  points[2].error = "outside the image";
+  PointReplyColumns columns;
+  monocle_msgs_srv_dds__MeasurePoints_Response_ s;
+  ToSample(monocle_msgs_msg_dds__REQUEST_OK, "", points, &columns, &s);
+  EXPECT_EQ(s.point_errors._length, 2u);
+  const auto back = FromSample(s);
+  ASSERT_TRUE(back.ok());
+  ASSERT_EQ(back->size(), 3u);
+  EXPECT_EQ((*back)[0].p_robot_m, points[0].p_robot_m);
+  EXPECT_EQ((*back)[0].sigma_m, points[0].sigma_m);
+  EXPECT_TRUE((*back)[0].ok());
+  EXPECT_EQ((*back)[1].status, MeasuredPoint::Status::kNotMeasurable);
+  EXPECT_EQ((*back)[1].error, "above the horizon");
+  EXPECT_EQ((*back)[2].status, MeasuredPoint::Status::kInvalidPixel);
+  // A reply whose columns disagree is refused, not read out of bounds.
+  s.z._length = 2;
+  EXPECT_FALSE(FromSample(s).ok());
+}
+
+TEST(ConvertTest, FloorCalibrationResultRoundTrip) {
+  FloorCalibrationResult r;
+  r.floor = {1.1, 0.4, 0.01, 0.02, {1e-3, 2e-3, 3e-3, 4e-3}, 0.15};
+  r.corners = 88;
+  r.frame_sequence = 7;
+  r.file = "floor.pb.txt";
+  r.revision = 2;
+  monocle_msgs_srv_dds__CalibrateFloor_Response_ s{};
+  ToSample(r, &s);
+  const auto b = FromSample(s);
+  EXPECT_EQ(b.floor.height_m, 1.1);
+  EXPECT_EQ(b.floor.sigma, r.floor.sigma);
+  EXPECT_EQ(b.floor.rms_px, 0.15);
+  EXPECT_EQ(b.corners, 88u);
+  EXPECT_EQ(b.frame_sequence, 7u);
+  EXPECT_EQ(b.file, "floor.pb.txt");
+  EXPECT_EQ(b.revision, 2u);
+}
+
+}  // namespace
+}  // namespace monocle::wire

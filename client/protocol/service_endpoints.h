@@ -1,0 +1,179 @@
+// ROS 2 services on plain Cyclone DDS, as rmw_cyclonedds_cpp puts them on the wire: a request
+// topic rq/<name>Request and a reply topic rr/<name>Reply, every sample beginning with the
+// header `uint64 guid; int64 seq`. A client sets guid to its request writer's instance handle
+// and seq to a number of its own; the server echoes both; a client drops every reply whose
+// guid is not its own (replies to all clients travel on the one reply topic).
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "client/protocol/dds.h"
+#include "client/protocol/wire.h"
+
+namespace monocle::dds {
+
+struct RequestHeader {
+  uint64_t guid = 0;
+  int64_t seq = 0;
+  dds_instance_handle_t publication = 0;  // the client's request writer, as seen here
+};
+
+// One service of the server side: reads requests, writes replies.
+template <typename Request, typename Reply>
+class ServiceServer {
+ public:
+  static Result<ServiceServer> Open(const std::shared_ptr<Entity>& participant,
+                                    const dds_topic_descriptor_t* request_type,
+                                    const dds_topic_descriptor_t* reply_type, const std::string& ns,
+                                    const std::string& service) {
+    auto requests =
+        Endpoint<Request>::Open(participant, request_type, wire::RequestTopic(ns, service).c_str(),
+                                false, true, wire::kRequestReaderQos);
+    if (!requests) return requests.error();
+    auto replies =
+        Endpoint<Reply>::Open(participant, reply_type, wire::ReplyTopic(ns, service).c_str(), true,
+                              false, wire::kRosDefaultQos);
+    if (!replies) return replies.error();
+    return ServiceServer(std::move(requests).value(), std::move(replies).value());
+  }
+
+  dds_entity_t request_reader() const { return requests_.reader(); }
+
+  // The requests waiting now; `copy(request, header)` makes the caller's value of each.
+  template <typename Out, typename Copy>
+  Result<std::vector<Out>> TakeRequests(Copy copy) {
+    std::vector<Out> all;
+    for (;;) {
+      auto taken = requests_.template Take<Out>(
+          std::chrono::milliseconds(0), [&](const Request& r, const dds_sample_info_t& info) {
+            return copy(r, RequestHeader{r.guid, r.seq, info.publication_handle});
+          });
+      if (!taken) return taken.error();
+      if (taken->empty()) return all;
+      for (auto& t : *taken) all.push_back(std::move(t));
+    }
+  }
+
+  // Echoes the request's header into `reply` and sends it. A volatile reply reaches only
+  // readers matched when it is written, so first wait (briefly) until the reply reader of the
+  // requesting client's participant is matched: discovery runs both ways independently, and a
+  // client may ask as soon as it sees our request reader.
+  Status SendReply(Reply& reply, const RequestHeader& header) {
+    reply.guid = header.guid;
+    reply.seq = header.seq;
+    WaitForClientReader(header.publication, std::chrono::milliseconds(500));
+    return replies_.Write(reply);
+  }
+
+ private:
+  ServiceServer(Endpoint<Request> requests, Endpoint<Reply> replies)
+      : requests_(std::move(requests)), replies_(std::move(replies)) {}
+
+  void WaitForClientReader(dds_instance_handle_t publication, std::chrono::milliseconds limit) {
+    dds_builtintopic_endpoint_t* writer =
+        dds_get_matched_publication_data(requests_.reader(), publication);
+    if (writer == nullptr) return;  // the client is gone: nothing to wait for
+    const dds_guid_t client = writer->participant_key;
+    dds_builtintopic_free_endpoint(writer);
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    do {
+      dds_instance_handle_t handles[64];
+      const dds_return_t n = dds_get_matched_subscriptions(replies_.writer(), handles, 64);
+      for (dds_return_t i = 0; i < std::min<dds_return_t>(n, 64); ++i) {
+        dds_builtintopic_endpoint_t* reader =
+            dds_get_matched_subscription_data(replies_.writer(), handles[i]);
+        if (reader == nullptr) continue;
+        const bool same = std::equal(std::begin(reader->participant_key.v),
+                                     std::end(reader->participant_key.v), std::begin(client.v));
+        dds_builtintopic_free_endpoint(reader);
+        if (same) return;
+      }
+      dds_sleepfor(DDS_MSECS(1));
+    } while (std::chrono::steady_clock::now() < deadline);
+  }
+
+  Endpoint<Request> requests_;
+  Endpoint<Reply> replies_;
+};
+
+// One service of the client side. Not thread-safe: one call at a time.
+template <typename Request, typename Reply>
+class ServiceClient {
+ public:
+  static Result<ServiceClient> Open(const std::shared_ptr<Entity>& participant,
+                                    const dds_topic_descriptor_t* request_type,
+                                    const dds_topic_descriptor_t* reply_type, const std::string& ns,
+                                    const std::string& service) {
+    // The reply reader first, so it exists before any request can be answered.
+    auto replies =
+        Endpoint<Reply>::Open(participant, reply_type, wire::ReplyTopic(ns, service).c_str(), false,
+                              true, wire::kRosDefaultQos);
+    if (!replies) return replies.error();
+    auto requests =
+        Endpoint<Request>::Open(participant, request_type, wire::RequestTopic(ns, service).c_str(),
+                                true, false, wire::kRosDefaultQos);
+    if (!requests) return requests.error();
+    ServiceClient c(std::move(requests).value(), std::move(replies).value());
+    dds_instance_handle_t handle = 0;
+    if (const dds_return_t rc = dds_get_instance_handle(c.requests_.writer(), &handle); rc < 0)
+      return DdsError("cannot read the request writer's handle", rc);
+    c.guid_ = handle;
+    return c;
+  }
+
+  // Both directions matched: a request now reaches the server and its reply reaches us.
+  bool WaitForService(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!(requests_.HasReaders() && replies_.HasWriters())) {
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      dds_sleepfor(DDS_MSECS(2));
+    }
+    return true;
+  }
+
+  uint64_t guid() const { return guid_; }
+
+  // Sends `request` (its header is set here) and waits up to `timeout` for its reply, which
+  // `convert(reply)` turns into the result; nullopt if none came. Replies to other clients,
+  // and late replies to our earlier requests, are dropped.
+  template <typename Out, typename Convert>
+  Result<std::optional<Out>> Call(Request& request, std::chrono::milliseconds timeout,
+                                  Convert convert) {
+    request.guid = guid_;
+    request.seq = ++seq_;
+    if (auto w = requests_.Write(request); !w) return w.error();
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return std::optional<Out>();
+      auto taken =
+          replies_.template Take<std::optional<Out>>(std::min(left, std::chrono::milliseconds(100)),
+                                                     [&](const Reply& r) -> std::optional<Out> {
+                                                       if (r.guid != guid_ || r.seq != request.seq)
+                                                         return std::nullopt;
+                                                       return convert(r);
+                                                     });
+      if (!taken) return taken.error();
+      for (auto& reply : *taken) {
+        if (reply) return std::optional<Out>(std::move(*reply));
+      }
+    }
+  }
+
+ private:
+  ServiceClient(Endpoint<Request> requests, Endpoint<Reply> replies)
+      : requests_(std::move(requests)), replies_(std::move(replies)) {}
+
+  Endpoint<Request> requests_;
+  Endpoint<Reply> replies_;
+  uint64_t guid_ = 0;
+  int64_t seq_ = 0;
+};
+
+}  // namespace monocle::dds

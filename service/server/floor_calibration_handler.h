@@ -1,0 +1,49 @@
+// Answers <floor camera namespace>/calibrate_floor (monocle_msgs/srv/CalibrateFloor): takes
+// the camera's next frame, finds the chessboard lying on the floor, calibrates (Xu et al.
+// 2017, full model), saves the calibration file atomically, hands it to the camera and
+// announces it (on_calibrated publishes it on /monocle/calibrations).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "client/protocol/convert.h"
+#include "service/server/calibration_store.h"
+#include "service/server/camera_worker.h"
+#include "service/server/request_server.h"
+
+namespace monocle {
+
+class FloorCalibrationHandler {
+ public:
+  static constexpr std::chrono::milliseconds kFrameWait{5000};
+  using FindWorker = std::function<CameraWorker*(const std::string& camera_id)>;
+  using OnCalibrated =
+      std::function<void(const CameraSetup&, const CameraCalibration&, uint64_t revision)>;
+
+  static Result<std::unique_ptr<FloorCalibrationHandler>> Start(
+      const std::shared_ptr<dds::Entity>& participant, const std::vector<CameraSetup>& cameras,
+      CalibrationStore& calibrations, FindWorker find_worker, OnCalibrated on_calibrated);
+
+ private:
+  struct Board {
+    int32_t cols = 0, rows = 0;
+    double square_m = 0;
+  };
+  using Server = RequestServer<monocle_msgs_srv_dds__CalibrateFloor_Request_,
+                               monocle_msgs_srv_dds__CalibrateFloor_Response_, Board>;
+
+  explicit FloorCalibrationHandler(CalibrationStore& calibrations) : calibrations_(calibrations) {}
+  void Answer(Server::Incoming&& in);
+  // The calibration result, or the status and message of the failure.
+  Result<FloorCalibrationResult> Calibrate(const CameraSetup& camera, const Board& board,
+                                           monocle_msgs_msg_dds__RequestStatus* status);
+
+  CalibrationStore& calibrations_;
+  FindWorker find_worker_;
+  OnCalibrated on_calibrated_;
+  std::unique_ptr<Server> server_;  // last: its thread stops first
+};
+
+}  // namespace monocle

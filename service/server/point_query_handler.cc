@@ -1,0 +1,69 @@
+#include "service/server/point_query_handler.h"
+
+#include <iostream>
+
+#include "service/server/point_queries.h"
+
+namespace monocle {
+
+Result<std::unique_ptr<PointQueryHandler>> PointQueryHandler::Start(
+    const std::shared_ptr<dds::Entity>& participant, const std::vector<CameraSetup>& cameras,
+    const CalibrationStore& calibrations) {
+  std::unique_ptr<PointQueryHandler> h(new PointQueryHandler(calibrations));
+  std::vector<const CameraSetup*> floor_cameras;
+  for (const auto& c : cameras) {
+    if (c.floor()) floor_cameras.push_back(&c);
+  }
+  auto server = Server::Start(
+      participant, floor_cameras, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+      &monocle_msgs_srv_dds__MeasurePoints_Response__desc, wire::kMeasurePoints,
+      [](const monocle_msgs_srv_dds__MeasurePoints_Request_& r) {
+        return Query{wire::FromSample(r), r.pixel_sigma_px};
+      },
+      [self = h.get()](Server::Incoming&& in) { self->Answer(std::move(in)); });
+  if (!server) return server.error();
+  h->server_ = std::move(server).value();
+  return h;
+}
+
+void PointQueryHandler::Answer(Server::Incoming&& in) {
+  auto status = monocle_msgs_msg_dds__REQUEST_OK;
+  std::string error;
+  std::vector<MeasuredPoint> points;
+  if (!in.value.pixels) {
+    status = monocle_msgs_msg_dds__REQUEST_INVALID;
+    error = in.value.pixels.error().message;
+  } else {
+    std::vector<PixelPair> pairs;
+    pairs.reserve(in.value.pixels->size());
+    for (const auto& p : *in.value.pixels) {
+      pairs.push_back({p.u, p.v, p.floor_px.has_value(), p.floor_px ? (*p.floor_px)[0] : 0,
+                       p.floor_px ? (*p.floor_px)[1] : 0});
+    }
+    const RequestAnswer answer = calibrations_.Read([&](const auto& cameras) {
+      return AnswerPointRequest(cameras, in.camera->id, pairs, in.value.pixel_sigma_px);
+    });
+    if (answer.status != RequestStatus::kAnswered) {
+      status = monocle_msgs_msg_dds__REQUEST_INVALID;
+      error = answer.error;
+    }
+    points.resize(answer.points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto& a = answer.points[i];
+      auto& p = points[i];
+      p.status = static_cast<MeasuredPoint::Status>(a.status);
+      const auto sigma = a.measurement.Sigma();
+      p.p_robot_m = {a.measurement.p_robot_m.x(), a.measurement.p_robot_m.y(),
+                     a.measurement.p_robot_m.z()};
+      p.sigma_m = {sigma[0], sigma[1], sigma[2]};
+      p.error = a.error;
+    }
+  }
+  wire::PointReplyColumns columns;
+  monocle_msgs_srv_dds__MeasurePoints_Response_ reply;
+  wire::ToSample(status, error, points, &columns, &reply);
+  if (auto s = in.server->SendReply(reply, in.header); !s)
+    std::cerr << "monocled: " << s.error() << "\n";
+}
+
+}  // namespace monocle

@@ -1,0 +1,105 @@
+#include "service/server/pose_query_handler.h"
+
+#include <iostream>
+
+namespace monocle {
+
+Result<std::unique_ptr<PoseQueryHandler>> PoseQueryHandler::Start(
+    const std::shared_ptr<dds::Entity>& participant, const std::vector<CameraSetup>& cameras) {
+  std::unique_ptr<PoseQueryHandler> h(new PoseQueryHandler());
+  std::vector<const CameraSetup*> corner_cameras;
+  for (const auto& c : cameras) {
+    if (c.corner()) corner_cameras.push_back(&c);
+  }
+  auto server = Server::Start(
+      participant, corner_cameras, &monocle_msgs_srv_dds__GetPose_Request__desc,
+      &monocle_msgs_srv_dds__GetPose_Response__desc, wire::kGetPose,
+      [](const monocle_msgs_srv_dds__GetPose_Request_& r) {
+        return static_cast<uint32_t>(r.which);
+      },
+      [self = h.get()](Server::Incoming&& in) { self->Answer(std::move(in)); },
+      [self = h.get()] { self->ExpireWaiting(); });
+  if (!server) return server.error();
+  h->server_ = std::move(server).value();
+  return h;
+}
+
+void PoseQueryHandler::Reply(const Server::Incoming& in, monocle_msgs_msg_dds__RequestStatus status,
+                             const std::string& error, const Pose* pose) {
+  Pose empty;
+  empty.camera_id = in.camera->id;
+  empty.frame_id = in.camera->ros_parent_frame;
+  monocle_msgs_srv_dds__GetPose_Response_ reply{};
+  reply.status = status;
+  reply.error = const_cast<char*>(error.c_str());
+  wire::ToSample(pose != nullptr ? *pose : empty, &reply.pose);
+  if (auto s = in.server->SendReply(reply, in.header); !s)
+    std::cerr << "monocled: " << s.error() << "\n";
+}
+
+void PoseQueryHandler::Answer(Server::Incoming&& in) {
+  const std::string& camera = in.camera->id;
+  if (in.value != monocle_msgs_msg_dds__POSE_LATEST &&
+      in.value != monocle_msgs_msg_dds__POSE_NEXT_FRAME) {
+    Reply(in, monocle_msgs_msg_dds__REQUEST_INVALID,
+          "which must be POSE_LATEST (0) or POSE_NEXT_FRAME (1), not " + std::to_string(in.value),
+          nullptr);
+    return;
+  }
+  std::unique_lock<std::mutex> lock(mutex_);
+  if (in.value == monocle_msgs_msg_dds__POSE_NEXT_FRAME) {
+    waiting_.push_back({std::move(in), std::chrono::steady_clock::now() + kFrameWait});
+    return;
+  }
+  const auto it = latest_.find(camera);
+  if (it == latest_.end()) {
+    lock.unlock();
+    Reply(in, monocle_msgs_msg_dds__REQUEST_FAILED,
+          "no pose yet from camera '" + camera + "' (see monocle status)", nullptr);
+    return;
+  }
+  const Pose pose = it->second;
+  lock.unlock();
+  Reply(in, monocle_msgs_msg_dds__REQUEST_OK, "", &pose);
+}
+
+void PoseQueryHandler::OnPose(const Pose& pose) {
+  std::vector<Pending> ready;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    latest_.insert_or_assign(pose.camera_id, pose);
+    for (auto it = waiting_.begin(); it != waiting_.end();) {
+      if (it->request.camera->id == pose.camera_id) {
+        ready.push_back(std::move(*it));
+        it = waiting_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (const auto& p : ready) Reply(p.request, monocle_msgs_msg_dds__REQUEST_OK, "", &pose);
+}
+
+void PoseQueryHandler::ExpireWaiting() {
+  std::vector<Pending> expired;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    for (auto it = waiting_.begin(); it != waiting_.end();) {
+      if (it->deadline < now) {
+        expired.push_back(std::move(*it));
+        it = waiting_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (const auto& e : expired) {
+    Reply(e.request, monocle_msgs_msg_dds__REQUEST_FAILED,
+          "no frame from camera '" + e.request.camera->id + "' within " +
+              std::to_string(kFrameWait.count() / 1000) + " s (see monocle status)",
+          nullptr);
+  }
+}
+
+}  // namespace monocle

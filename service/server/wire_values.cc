@@ -1,0 +1,90 @@
+#include "service/server/wire_values.h"
+
+namespace monocle {
+
+Pose PoseOf(const CameraSetup& camera, const ProcessedFrame& frame) {
+  Pose p;
+  p.camera_id = camera.id;
+  p.frame_id = camera.ros_parent_frame;
+  p.frame_sequence = frame.sequence;
+  p.capture_time_ns = frame.capture_time_ns;
+  p.camera_clock = frame.camera_clock;
+  p.processing_ns = frame.processing_ns;
+  if (!frame.corner) {
+    p.valid = false;
+    p.error = frame.corner.error().message;
+    return p;
+  }
+  const CornerLocation& c = *frame.corner;
+  p.valid = true;
+  p.x_m = c.pose.x_m;
+  p.y_m = c.pose.y_m;
+  p.z_m = c.pose.z_m;
+  p.pan_rad = c.pose.pan_rad;
+  p.tilt_rad = c.pose.tilt_rad;
+  p.swing_rad = c.pose.swing_rad;
+  p.quaternion_wxyz = {c.q_corner_camera.w(), c.q_corner_camera.x(), c.q_corner_camera.y(),
+                       c.q_corner_camera.z()};
+  for (int i = 0; i < 25; ++i) p.covariance[static_cast<size_t>(i)] = c.covariance(i / 5, i % 5);
+  p.corner_px = {c.corner_px.x(), c.corner_px.y()};
+  p.rms_px = c.rms_px;
+  p.tracked = c.source == CornerSource::kTracked;
+  p.suspect = c.suspect;
+  p.suspect_reason = c.suspect_reason;
+  return p;
+}
+
+CameraStatus CameraStatusOf(const CameraSetup& camera, const WorkerStatus& st,
+                            const std::string& service_id, int64_t stamp_ns) {
+  CameraStatus c;
+  c.camera_id = camera.id;
+  c.device = camera.options.device;
+  c.role = ToString(camera.role);
+  c.ros_namespace = camera.ros_namespace;
+  c.service = service_id;
+  c.state = st.state;
+  c.fps = st.fps;
+  c.frames = st.frames;
+  c.dropped = st.dropped;
+  c.skipped = st.skipped;
+  c.latency_ms = st.latency_ms;
+  c.last_error = st.last_error;
+  c.last_error_ns = st.last_error_ns;
+  c.stamp_ns = stamp_ns;
+  return c;
+}
+
+FloorPoseEstimate FloorPoseOf(const FloorCalibration& f) {
+  const auto sigma = f.Sigma();
+  return {f.pose.height_m,
+          f.pose.pitch_rad,
+          f.pose.yaw_rad,
+          f.pose.roll_rad,
+          {sigma[0], sigma[1], sigma[2], sigma[3]},
+          f.rms_px};
+}
+
+Calibration CalibrationOf(const CameraSetup& camera, const CameraCalibration& cal,
+                          uint64_t revision, int64_t updated_ns) {
+  Calibration out;
+  out.camera_id = camera.id;
+  out.ros_namespace = camera.ros_namespace;
+  out.revision = revision;
+  out.updated_ns = updated_ns;
+  const auto& k = cal.intrinsics;
+  out.width_px = k.width_px;
+  out.height_px = k.height_px;
+  out.fx = k.fx;
+  out.fy = k.fy;
+  out.cx = k.cx;
+  out.cy = k.cy;
+  for (size_t i = 0; i < 8; ++i) out.distortion[i] = k.distortion[i];
+  if (cal.floor) out.floor = FloorPoseOf(*cal.floor);
+  out.ceiling_distance_m =
+      camera.ceiling_distance_m ? camera.ceiling_distance_m : cal.ceiling_distance_m;
+  out.file = camera.calibration_path;
+  out.text = FormatCalibration(cal);
+  return out;
+}
+
+}  // namespace monocle
