@@ -65,7 +65,7 @@ Live, from the running service (monocled) over DDS, instead of IMAGE and --calib
   monocle floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
   --camera ID              a floor camera of the service: it calibrates from the camera's
                            next frame, writes its calibration file atomically and publishes
-                           the new calibration (topic monocle/calibration)
+                           the new calibration (topic /monocle/calibrations)
   --domain D               DDS domain id (default 0); --timeout S (default 10)
 
 Board axes: x_p to the right in the image, y_p away from the camera.

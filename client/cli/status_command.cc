@@ -14,10 +14,12 @@ namespace {
 constexpr const char* kStatusHelp =
     R"(Usage: monocle status [--watch] [--json] [--domain D] [--timeout S]
 
-The running service's cameras (topic monocle/status): state (streaming, reconnecting,
-stopped), frames per second, frames received, dropped (sent by the camera, never received),
-skipped (not processed because processing was busy), processing latency (frame received ->
-result published, median over the status period, ms), and the last error.
+Every camera of every monocled on the DDS domain (topic /monocle/cameras): its ROS namespace
+(where its topics and services are; name a camera by it when several robots share a domain),
+role, state (streaming, reconnecting, stopped), frames per second, frames received, dropped
+(sent by the camera, never received), skipped (not processed because processing was busy),
+processing latency (frame received -> result published, median over the status period, ms),
+and the last error. Two monocled serving the same namespace are reported (exit status 1).
 
   --watch      keep printing every update until Ctrl-C
   --json       one JSON object per camera per line
@@ -39,14 +41,16 @@ proto::StatusOutput ToOutput(const CameraStatus& s) {
   out.set_last_error(s.last_error);
   out.set_last_error_ns(s.last_error_ns);
   out.set_stamp_ns(s.stamp_ns);
+  out.set_ros_namespace(s.ros_namespace);
+  out.set_service(s.service);
   return out;
 }
 
 void PrintHeader() {
-  std::cout << std::left << std::setw(14) << "CAMERA" << std::setw(14) << "ROLE" << std::setw(14)
-            << "STATE" << std::right << std::setw(7) << "FPS" << std::setw(10) << "FRAMES"
-            << std::setw(9) << "DROPPED" << std::setw(9) << "SKIPPED" << std::setw(12)
-            << "LATENCY ms"
+  std::cout << std::left << std::setw(14) << "CAMERA" << std::setw(24) << "NAMESPACE"
+            << std::setw(14) << "ROLE" << std::setw(14) << "STATE" << std::right << std::setw(7)
+            << "FPS" << std::setw(10) << "FRAMES" << std::setw(9) << "DROPPED" << std::setw(9)
+            << "SKIPPED" << std::setw(12) << "LATENCY ms"
             << "  LAST ERROR\n";
 }
 
@@ -55,11 +59,11 @@ void Print(const CameraStatus& s, bool json) {
     std::cout << ToJson(ToOutput(s)) << std::endl;
     return;
   }
-  std::cout << std::left << std::setw(14) << s.camera_id << std::setw(14) << s.role << std::setw(14)
-            << ToString(s.state) << std::right << std::fixed << std::setprecision(1) << std::setw(7)
-            << s.fps << std::setw(10) << s.frames << std::setw(9) << s.dropped << std::setw(9)
-            << s.skipped << std::setw(12) << std::setprecision(2) << s.latency_ms << "  "
-            << s.last_error << std::endl;
+  std::cout << std::left << std::setw(14) << s.camera_id << std::setw(24) << s.ros_namespace
+            << std::setw(14) << s.role << std::setw(14) << ToString(s.state) << std::right
+            << std::fixed << std::setprecision(1) << std::setw(7) << s.fps << std::setw(10)
+            << s.frames << std::setw(9) << s.dropped << std::setw(9) << s.skipped << std::setw(12)
+            << std::setprecision(2) << s.latency_ms << "  " << s.last_error << std::endl;
 }
 
 }  // namespace
@@ -88,7 +92,13 @@ int StatusCommand(const std::vector<std::string>& argv) {
   if (!current) return Fail(current.error());
   if (!json) PrintHeader();
   for (const auto& s : *current) Print(s, json);
-  if (!args->Has("--watch")) return kExitOk;
+  if (const std::string clash = DuplicateCameras(*current); !clash.empty()) {
+    std::cerr << "monocle: warning: " << clash
+              << ": their topics and requests mix; give each robot its own ros_namespace "
+                 "(README, \"Several robots on one domain\")\n";
+    exit_status = kExitFailure;
+  }
+  if (!args->Has("--watch")) return exit_status;
 
   // Until Ctrl-C: updates arrive on the subscription's thread; this one waits for the signal.
   std::mutex print;

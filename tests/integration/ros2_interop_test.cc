@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <map>
 #include <string>
 #include <thread>
 
@@ -199,6 +200,119 @@ TEST_F(Ros2InteropTest, DefaultQosReadersReceivePoseTfCameraInfoImageAndDiagnost
         return ok == 2;
       });
   EXPECT_TRUE(both_ok) << ReadFile(dir_ / "monocled.log");
+}
+
+// A ROS 2 service client as rmw_cyclonedds makes one: a request writer and a reply reader
+// with ROS's default QoS, guid = the request writer's instance handle.
+struct RosServiceClient {
+  dds_entity_t writer = 0, reader = 0;
+  uint64_t guid = 0;
+};
+
+RosServiceClient OpenClient(dds_entity_t participant, const std::string& service) {
+  RosServiceClient c;
+  dds_qos_t* qos = RosQos(false);
+  const dds_entity_t rq =
+      dds_create_topic(participant, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+                       ("rq" + service + "Request").c_str(), qos, nullptr);
+  const dds_entity_t rr =
+      dds_create_topic(participant, &monocle_msgs_srv_dds__MeasurePoints_Response__desc,
+                       ("rr" + service + "Reply").c_str(), qos, nullptr);
+  c.reader = dds_create_reader(participant, rr, qos, nullptr);
+  c.writer = dds_create_writer(participant, rq, qos, nullptr);
+  dds_delete_qos(qos);
+  dds_instance_handle_t handle = 0;
+  dds_get_instance_handle(c.writer, &handle);
+  c.guid = handle;
+  return c;
+}
+
+// Both directions matched, as rclcpp's wait_for_service.
+bool WaitForService(const RosServiceClient& c, std::chrono::seconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    dds_publication_matched_status_t pub{};
+    dds_subscription_matched_status_t sub{};
+    dds_get_publication_matched_status(c.writer, &pub);
+    dds_get_subscription_matched_status(c.reader, &sub);
+    if (pub.current_count > 0 && sub.current_count > 0) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+void Ask(const RosServiceClient& c, int64_t seq, double u, double v) {
+  monocle_msgs_srv_dds__MeasurePoints_Request_ request{};
+  request.guid = c.guid;
+  request.seq = seq;
+  request.u = {1, 1, &u, false};
+  request.v = {1, 1, &v, false};
+  ASSERT_EQ(dds_write(c.writer, &request), 0);
+}
+
+struct Answer {
+  uint64_t guid = 0;
+  int64_t seq = 0;
+  uint32_t status = 99;
+  double y = 0, sigma_y = 0;
+};
+
+TEST_F(Ros2InteropTest, ServiceCallsWithTheRmwHeaderGetTheirOwnRepliesBack) {
+  const std::string service = "/monocle/sim_floor/measure_points";
+  const RosServiceClient a = OpenClient(participant_, service);
+  const RosServiceClient b = OpenClient(participant_, service);
+  ASSERT_GT(a.writer, 0);
+  ASSERT_GT(b.writer, 0);
+  ASSERT_NE(a.guid, b.guid);
+  ASSERT_TRUE(WaitForService(a, std::chrono::seconds(40))) << ReadFile(dir_ / "monocled.log");
+  ASSERT_TRUE(WaitForService(b, std::chrono::seconds(40)));
+
+  // Both ask at once, with sequence numbers of their own; a's pixel is nearer the camera.
+  Ask(a, 7, 640, 900);
+  Ask(b, 1234, 640, 700);
+  // Every reply travels on the one reply topic: each client's reader sees both and must keep
+  // only those with its own guid, as rmw_cyclonedds does.
+  auto collect = [&](const RosServiceClient& c) {
+    std::vector<Answer> seen;
+    TakeUntil<monocle_msgs_srv_dds__MeasurePoints_Response_>(c.reader, std::chrono::seconds(20),
+                                                             [&](const auto& r) {
+                                                               Answer x{r.guid, r.seq, r.status};
+                                                               if (r.y._length == 1) {
+                                                                 x.y = r.y._buffer[0];
+                                                                 x.sigma_y = r.sigma_y._buffer[0];
+                                                               }
+                                                               seen.push_back(x);
+                                                               return seen.size() == 2;
+                                                             });
+    return seen;
+  };
+  for (const auto* c : {&a, &b}) {
+    const auto seen = collect(*c);
+    ASSERT_EQ(seen.size(), 2u) << ReadFile(dir_ / "monocled.log");
+    int own = 0;
+    for (const auto& r : seen) {
+      ASSERT_TRUE(r.guid == a.guid || r.guid == b.guid) << "a reply to nobody: guid " << r.guid;
+      EXPECT_EQ(r.status, 0u);  // REQUEST_OK
+      if (r.guid != c->guid) continue;
+      ++own;
+      // The request's own seq echoed, and the answer to its own pixel.
+      EXPECT_EQ(r.seq, c == &a ? 7 : 1234);
+      EXPECT_GT(r.y, 0.2);
+      EXPECT_GT(r.sigma_y, 0);
+    }
+    EXPECT_EQ(own, 1);
+  }
+  // The same two answers, told apart only by guid: a's pixel lies nearer.
+  std::map<uint64_t, double> y_by_guid;
+  Ask(a, 8, 640, 900);
+  Ask(b, 1235, 640, 700);
+  for (const auto* c : {&a, &b}) {
+    for (const auto& r : collect(*c)) {
+      if (r.guid == c->guid) y_by_guid[r.guid] = r.y;
+    }
+  }
+  ASSERT_EQ(y_by_guid.size(), 2u);
+  EXPECT_LT(y_by_guid[a.guid], y_by_guid[b.guid]);
 }
 
 }  // namespace
