@@ -27,6 +27,8 @@ constexpr milliseconds kDiscoveryGrace{1000};
 // A camera whose status has not been heard for this long is taken as gone (its service
 // stopped or crashed): statuses come every status period, 1 s by default.
 constexpr milliseconds kStatusStale{10000};
+// How long a camera once found is taken to stay where it was.
+constexpr milliseconds kResolvedFresh{1000};
 
 ClientError DdsFailure(const Error& e) { return {ClientError::Code::kDds, e.message}; }
 
@@ -173,14 +175,34 @@ struct Client::Impl {
   Channel<PointService> points;
   Channel<PoseService> poses;
   Channel<FloorService> floor;
+  std::mutex resolved_mutex;
+  std::map<std::string, std::pair<CameraStatus, Clock::time_point>> resolved;
 
   // The one camera `camera` (an id or a namespace) names, with `role` ("floor", "corner" or
   // any if empty). Waits for the directory until the deadline.
   ClientResult<CameraStatus> Resolve(const std::string& camera, const std::string& role,
                                      Clock::time_point deadline) {
+    {
+      // A camera named a moment ago is still where it was: no directory scan per request.
+      std::lock_guard<std::mutex> lock(resolved_mutex);
+      const auto it = resolved.find(camera + "\n" + role);
+      if (it != resolved.end() && Clock::now() - it->second.second < kResolvedFresh)
+        return it->second.first;
+    }
+    auto found = ResolveNow(camera, role, deadline);
+    if (found) {
+      std::lock_guard<std::mutex> lock(resolved_mutex);
+      resolved.insert_or_assign(camera + "\n" + role, std::make_pair(*found, Clock::now()));
+    }
+    return found;
+  }
+
+  ClientResult<CameraStatus> ResolveNow(const std::string& camera, const std::string& role,
+                                        Clock::time_point deadline) {
     const std::string kind = role.empty() ? "camera" : role + " camera";
-    for (;;) {
-      const auto entries = directory->Update(kPoll);
+    for (bool at_once = true;; at_once = false) {
+      // What is known already first: a camera in the directory costs no wait.
+      const auto entries = directory->Update(at_once ? milliseconds(0) : kPoll);
       std::vector<CameraStatus> named;
       for (const auto& e : entries) {
         if (e.status.camera_id == camera || e.status.ros_namespace == camera)

@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -75,6 +78,11 @@ class ServiceServer {
       : requests_(std::move(requests)), replies_(std::move(replies)) {}
 
   void WaitForClientReader(dds_instance_handle_t publication, std::chrono::milliseconds limit) {
+    {
+      // Once a client's reader was seen matched it stays so: later requests cost no lookup.
+      std::lock_guard<std::mutex> lock(*mutex_);
+      if (matched_clients_.count(publication) != 0) return;
+    }
     dds_builtintopic_endpoint_t* writer =
         dds_get_matched_publication_data(requests_.reader(), publication);
     if (writer == nullptr) return;  // the client is gone: nothing to wait for
@@ -91,7 +99,13 @@ class ServiceServer {
         const bool same = std::equal(std::begin(reader->participant_key.v),
                                      std::end(reader->participant_key.v), std::begin(client.v));
         dds_builtintopic_free_endpoint(reader);
-        if (same) return;
+        if (same) {
+          std::lock_guard<std::mutex> lock(*mutex_);
+          // Bounded: a long-running service forgets old clients and looks them up again.
+          if (matched_clients_.size() > 4096) matched_clients_.clear();
+          matched_clients_.insert(publication);
+          return;
+        }
       }
       dds_sleepfor(DDS_MSECS(1));
     } while (std::chrono::steady_clock::now() < deadline);
@@ -99,6 +113,8 @@ class ServiceServer {
 
   Endpoint<Request> requests_;
   Endpoint<Reply> replies_;
+  std::unique_ptr<std::mutex> mutex_ = std::make_unique<std::mutex>();  // movable
+  std::set<dds_instance_handle_t> matched_clients_;
 };
 
 // One service of the client side. Not thread-safe: one call at a time.
