@@ -113,11 +113,14 @@ int main(int argc, char** argv) {
   for (const auto& cam : setup->cameras) {
     std::cerr << "monocled: camera '" << cam.id << "' (" << cam.options.device << ", "
               << monocle::ToString(cam.role) << ", calibration " << cam.calibration_path
-              << "; ROS 2 " << cam.ros_namespace << "/{" << (cam.corner() ? "pose," : "")
+              << "; ROS 2 " << cam.ros_namespace << "/{"
+              << (cam.corner() ? "corner_pose,pose,get_pose," : "")
+              << (cam.floor() ? "measure_points,calibrate_floor," : "")
               << "camera_info,image_raw}, frame " << cam.ros_frame << ")\n";
   }
-  std::cerr << "monocled: serving on DDS domain " << setup->domain
-            << " (ROS 2: ROS_DOMAIN_ID=" << setup->domain << ", also /tf and /diagnostics)\n";
+  std::cerr << "monocled: serving on DDS domain " << setup->domain << " as " << service->get()->id()
+            << " (ROS 2: ROS_DOMAIN_ID=" << setup->domain
+            << ", also /tf, /diagnostics, /monocle/cameras, /monocle/calibrations)\n";
   const auto period = setup->status_period;
   timespec wait{static_cast<time_t>(period.count() / 1000),
                 static_cast<long>(period.count() % 1000) * 1000000L};
