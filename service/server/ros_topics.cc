@@ -6,6 +6,7 @@
 #include "client/protocol/convert.h"
 #include "client/protocol/wire.h"
 #include "service/geometry/pose_covariance.h"
+#include "service/geometry/robot_frames.h"
 #include "service/server/wire_values.h"
 
 namespace monocle {
@@ -23,6 +24,12 @@ Result<std::unique_ptr<dds::Endpoint<T>>> OpenWriter(const std::shared_ptr<dds::
   auto ep = dds::Endpoint<T>::Open(p, type, topic.c_str(), true, false, qos);
   if (!ep) return ep.error();
   return std::make_unique<dds::Endpoint<T>>(std::move(ep).value());
+}
+
+RigidTransform MountOf(const CameraSetup::Mount& m) {
+  const auto& q = m.rotation_xyzw;
+  return {Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized(),
+          Eigen::Vector3d(m.translation_m[0], m.translation_m[1], m.translation_m[2])};
 }
 
 void Report(const Status& s) {
@@ -73,6 +80,32 @@ Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::En
       OpenWriter<tf2_msgs_msg_dds__TFMessage_>(p, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf");
   if (!tf) return tf.error();
   r->tf_ = std::move(tf).value();
+  // /tf_static: each mounted camera on its robot, once, kept for late readers (ROS's static
+  // tf QoS: reliable, transient-local, keep-last 1).
+  std::vector<geometry_msgs_msg_dds__TransformStamped_> mounts;
+  for (const auto& cam : cameras) {
+    if (!cam.mount) continue;
+    geometry_msgs_msg_dds__TransformStamped_ t{};
+    t.header.frame_id = Chars(cam.mount->base_frame);
+    t.child_frame_id = Chars(cam.ros_frame);
+    const auto& m = *cam.mount;
+    t.transform.translation = {m.translation_m[0], m.translation_m[1], m.translation_m[2]};
+    t.transform.rotation = {m.rotation_xyzw[0], m.rotation_xyzw[1], m.rotation_xyzw[2],
+                            m.rotation_xyzw[3]};
+    mounts.push_back(t);
+  }
+  if (!mounts.empty()) {
+    auto tf_static = OpenWriter<tf2_msgs_msg_dds__TFMessage_>(
+        p, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", dds::EndpointQos{1, true});
+    if (!tf_static) return tf_static.error();
+    r->tf_static_ = std::move(tf_static).value();
+    tf2_msgs_msg_dds__TFMessage_ message{};
+    message.transforms._buffer = mounts.data();
+    message.transforms._length = message.transforms._maximum =
+        static_cast<uint32_t>(mounts.size());
+    message.transforms._release = false;
+    Report(r->tf_static_->Write(message));
+  }
   auto diagnostics = OpenWriter<diagnostic_msgs_msg_dds__DiagnosticArray_>(
       p, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics");
   if (!diagnostics) return diagnostics.error();
@@ -123,11 +156,16 @@ void RosTopics::PublishPose(const CameraSetup& camera, const ProcessedFrame& fra
   for (int i = 0; i < 36; ++i) pose.pose.covariance[i] = covariance(i / 6, i % 6);
   Report(it->second.pose->Write(pose));
 
+  // tf: the camera, or (with a mount) the robot's base, in the parent frame.
+  RigidTransform shown{c.q_corner_camera, position};
+  if (camera.mount) shown = BaseInParent(shown, MountOf(*camera.mount));
   geometry_msgs_msg_dds__TransformStamped_ transform{};
   transform.header = pose.header;
-  transform.child_frame_id = Chars(camera.ros_frame);
-  transform.transform.translation = {position.x(), position.y(), position.z()};
-  transform.transform.rotation = pose.pose.pose.orientation;
+  transform.child_frame_id = Chars(camera.mount ? camera.mount->base_frame : camera.ros_frame);
+  transform.transform.translation = {shown.translation.x(), shown.translation.y(),
+                                     shown.translation.z()};
+  transform.transform.rotation = {shown.rotation.x(), shown.rotation.y(), shown.rotation.z(),
+                                  shown.rotation.w()};
   tf2_msgs_msg_dds__TFMessage_ tf{};
   tf.transforms._buffer = &transform;
   tf.transforms._length = tf.transforms._maximum = 1;

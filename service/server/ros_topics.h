@@ -5,7 +5,8 @@
 //   <ns>/pose         geometry_msgs/PoseWithCovarianceStamped, every valid, unsuspected pose
 //   <ns>/camera_info  sensor_msgs/CameraInfo (plumb_bob), every status period
 //   <ns>/image_raw    sensor_msgs/Image mono8, only while subscribed, at most image_max_rate_hz
-// and for all cameras /tf (tf2_msgs/TFMessage, parent frame -> <camera>_optical),
+// and for all cameras /tf (tf2_msgs/TFMessage, parent frame -> <camera>_optical, or with a
+// configured mount parent frame -> the robot's base frame, and /tf_static base -> optical),
 // /diagnostics (diagnostic_msgs/DiagnosticArray, every status period), /monocle/cameras
 // (monocle_msgs/CameraStatus) and /monocle/calibrations (monocle_msgs/Calibration), the last
 // two with one transient-local writer per camera.
@@ -59,6 +60,7 @@ class RosTopics {
 
   std::map<std::string, PerCamera> cameras_;  // by camera id
   std::unique_ptr<dds::Endpoint<tf2_msgs_msg_dds__TFMessage_>> tf_;
+  std::unique_ptr<dds::Endpoint<tf2_msgs_msg_dds__TFMessage_>> tf_static_;  // camera mounts
   std::unique_ptr<dds::Endpoint<diagnostic_msgs_msg_dds__DiagnosticArray_>> diagnostics_;
   std::mutex image_mutex_;   // last_image of every camera
   std::mutex status_mutex_;  // status and calibration writes come from several threads

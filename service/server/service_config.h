@@ -2,6 +2,7 @@
 // validated values once, at the boundary. Errors name the file, the line and the field.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -32,6 +33,13 @@ struct CameraSetup {
   std::string ros_parent_frame;  // frame the pose and tf are given in, e.g. corner
   std::string ros_frame;         // the camera's optical frame, e.g. sim_corner_optical
   double image_max_rate_hz = 5;
+  // The camera on the robot (idl/service_config.proto CameraMount), if configured.
+  struct Mount {
+    std::string base_frame;
+    std::array<double, 3> translation_m{};
+    std::array<double, 4> rotation_xyzw{0, 0, 0, 1};
+  };
+  std::optional<Mount> mount;
 
   bool corner() const { return role != CameraRole::kFloor; }
   bool floor() const { return role != CameraRole::kCorner; }

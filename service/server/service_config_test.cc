@@ -45,6 +45,7 @@ camera {
   ros_namespace: "robot1/front/"
   ros_parent_frame: "map"
   image_max_rate_hz: 2
+  mount { base_frame: "base_link" translation_m: [0.2, 0, 1.1] rotation_xyzw: [0, 0, 0, 1.0004] }
 }
 )",
                                         "cfg", "/base");
@@ -66,6 +67,10 @@ camera {
   EXPECT_EQ(c.ros_frame, "front_optical");
   EXPECT_EQ(c.ros_parent_frame, "map");
   EXPECT_DOUBLE_EQ(c.image_max_rate_hz, 2);
+  ASSERT_TRUE(c.mount.has_value());
+  EXPECT_EQ(c.mount->base_frame, "base_link");
+  EXPECT_DOUBLE_EQ(c.mount->translation_m[2], 1.1);
+  EXPECT_DOUBLE_EQ(c.mount->rotation_xyzw[3], 1);  // normalised
 }
 
 // Each broken file is rejected with its line and the field at fault.
@@ -94,6 +99,15 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
        "cfg: line 5: camera[0].ros_namespace '/robot one' is not a ROS 2 namespace"},
       {"camera { device: \"a\" role: CORNER calibration: \"y\" image_max_rate_hz: 0 }\n",
        "camera[0].image_max_rate_hz must be"},
+      {"camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n"
+       "  mount { translation_m: [0, 0, 1] rotation_xyzw: [0, 0, 0, 1] }\n}\n",
+       "cfg: line 5: camera[0].mount.base_frame is missing"},
+      {"camera { device: \"a\" role: CORNER calibration: \"y\"\n"
+       "  mount { base_frame: \"b\" translation_m: [0, 1] rotation_xyzw: [0, 0, 0, 1] } }\n",
+       "cfg: line 2: camera[0].mount.translation_m needs 3 values"},
+      {"camera { device: \"a\" role: CORNER calibration: \"y\"\n"
+       "  mount { base_frame: \"b\" translation_m: [0, 0, 1] rotation_xyzw: [0, 0, 0, 2] } }\n",
+       "camera[0].mount.rotation_xyzw must be a unit quaternion (its norm is 2"},
   };
   for (const auto& c : cases) {
     const auto setup = ParseServiceConfig(c.text, "cfg", "");

@@ -5,9 +5,11 @@
 #include <dds/dds.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <string>
@@ -313,6 +315,91 @@ TEST_F(Ros2InteropTest, ServiceCallsWithTheRmwHeaderGetTheirOwnRepliesBack) {
   }
   ASSERT_EQ(y_by_guid.size(), 2u);
   EXPECT_LT(y_by_guid[a.guid], y_by_guid[b.guid]);
+}
+
+TEST_F(Ros2InteropTest, AMountedCameraGivesTheRobotsBaseOnTfAndTheMountOnTfStatic) {
+  // The default service has written the simulated cameras' calibrations; restart with the
+  // corner camera mounted on a robot: 0.3 m ahead of base_link, 1.0 m up, looking up.
+  for (int i = 0; i < 400 && ReadFile(dir_ / "monocled.log").find("serving on DDS domain") ==
+                                 std::string::npos;
+       ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(monocled_->Stop(), 0) << ReadFile(dir_ / "monocled.log");
+  std::ofstream(dir_ / "state/mounted.pbtxt") << R"(
+camera {
+  id: "sim-corner" device: "sim-corner" role: CORNER calibration: "sim-corner.pbtxt"
+  mount { base_frame: "base_link" translation_m: [0.3, 0, 1.0] rotation_xyzw: [0, 0, 0, 1] }
+}
+)";
+  monocled_ = std::make_unique<ChildProcess>(
+      MonocledBinary(),
+      std::vector<std::string>{"--domain", std::to_string(kDomain), "--config",
+                               dir_ / "state/mounted.pbtxt"},
+      dir_ / "monocled.log");
+  // tf_static as ROS's static broadcaster gives it: reliable, transient-local, keep-last 1.
+  dds_qos_t* qos = RosQos(false);
+  dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  const dds_entity_t static_topic = dds_create_topic(
+      participant_, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", qos, nullptr);
+  const dds_entity_t static_reader = dds_create_reader(participant_, static_topic, qos, nullptr);
+  dds_delete_qos(qos);
+  ASSERT_GT(static_reader, 0);
+  const auto tf_reader = Reader(&tf2_msgs_msg_dds__TFMessage__desc, "rt/tf", false);
+  const auto pose_reader = Reader(&geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc,
+                                  "rt/monocle/sim_corner/pose", false);
+
+  bool mount_ok = TakeUntil<tf2_msgs_msg_dds__TFMessage_>(
+      static_reader, std::chrono::seconds(40), [&](const auto& m) {
+        if (m.transforms._length != 1) return false;
+        const auto& t = m.transforms._buffer[0];
+        EXPECT_STREQ(t.header.frame_id, "base_link");
+        EXPECT_STREQ(t.child_frame_id, "sim_corner_optical");
+        EXPECT_EQ(t.transform.translation.x, 0.3);
+        EXPECT_EQ(t.transform.translation.z, 1.0);
+        return true;
+      });
+  ASSERT_TRUE(mount_ok) << ReadFile(dir_ / "monocled.log");
+
+  // corner -> base_link on /tf; with the identity rotation of the mount the base sits
+  // 1.0 m below the camera and 0.3 m behind it along the camera's own x axis.
+  std::map<int64_t, std::array<double, 3>> base_by_stamp, camera_by_stamp;
+  auto stamp = [](const builtin_interfaces_msg_dds__Time_& t) {
+    return static_cast<int64_t>(t.sec) * 1000000000 + t.nanosec;
+  };
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(40);
+  bool matched = false;
+  while (!matched && std::chrono::steady_clock::now() < deadline) {
+    TakeUntil<tf2_msgs_msg_dds__TFMessage_>(tf_reader, std::chrono::seconds(1), [&](const auto& m) {
+      for (uint32_t i = 0; i < m.transforms._length; ++i) {
+        const auto& t = m.transforms._buffer[i];
+        EXPECT_STREQ(t.header.frame_id, "corner");
+        EXPECT_STREQ(t.child_frame_id, "base_link");
+        const auto& p = t.transform.translation;
+        base_by_stamp[stamp(t.header.stamp)] = {p.x, p.y, p.z};
+      }
+      return false;
+    });
+    TakeUntil<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>(
+        pose_reader, std::chrono::seconds(1), [&](const auto& p) {
+          const auto& q = p.pose.pose.position;
+          camera_by_stamp[stamp(p.header.stamp)] = {q.x, q.y, q.z};
+          return false;
+        });
+    for (const auto& [t, base] : base_by_stamp) {
+      const auto it = camera_by_stamp.find(t);
+      if (it == camera_by_stamp.end()) continue;
+      // The camera is 1.0 m above the base (the ceiling frame's z runs from the ceiling
+      // down to the camera, so the base is 1.0 m further from the ceiling) and 0.3 m from
+      // it horizontally.
+      const auto& cam = it->second;
+      const double dx = cam[0] - base[0], dy = cam[1] - base[1], dz = cam[2] - base[2];
+      EXPECT_NEAR(std::sqrt(dx * dx + dy * dy + dz * dz), std::sqrt(0.3 * 0.3 + 1.0 * 1.0), 1e-9);
+      matched = true;
+      break;
+    }
+  }
+  EXPECT_TRUE(matched) << base_by_stamp.size() << " tf, " << camera_by_stamp.size() << " poses";
 }
 
 }  // namespace
