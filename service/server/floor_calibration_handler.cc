@@ -13,12 +13,9 @@ Result<std::unique_ptr<FloorCalibrationHandler>> FloorCalibrationHandler::Start(
   std::unique_ptr<FloorCalibrationHandler> h(new FloorCalibrationHandler(calibrations));
   h->find_worker_ = std::move(find_worker);
   h->on_calibrated_ = std::move(on_calibrated);
-  std::vector<const CameraSetup*> floor_cameras;
-  for (const auto& c : cameras) {
-    if (c.floor()) floor_cameras.push_back(&c);
-  }
   auto server = Server::Start(
-      participant, floor_cameras, &monocle_msgs_srv_dds__CalibrateFloor_Request__desc,
+      participant, CamerasWith(cameras, &CameraSetup::floor),
+      &monocle_msgs_srv_dds__CalibrateFloor_Request__desc,
       &monocle_msgs_srv_dds__CalibrateFloor_Response__desc, wire::kCalibrateFloor,
       [](const monocle_msgs_srv_dds__CalibrateFloor_Request_& r) {
         return Board{r.board_cols, r.board_rows, r.square_m};

@@ -10,12 +10,9 @@ Result<std::unique_ptr<PointQueryHandler>> PointQueryHandler::Start(
     const std::shared_ptr<dds::Entity>& participant, const std::vector<CameraSetup>& cameras,
     const CalibrationStore& calibrations) {
   std::unique_ptr<PointQueryHandler> h(new PointQueryHandler(calibrations));
-  std::vector<const CameraSetup*> floor_cameras;
-  for (const auto& c : cameras) {
-    if (c.floor()) floor_cameras.push_back(&c);
-  }
   auto server = Server::Start(
-      participant, floor_cameras, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+      participant, CamerasWith(cameras, &CameraSetup::floor),
+      &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
       &monocle_msgs_srv_dds__MeasurePoints_Response__desc, wire::kMeasurePoints,
       [](const monocle_msgs_srv_dds__MeasurePoints_Request_& r) {
         return Query{wire::FromSample(r), r.pixel_sigma_px};

@@ -7,13 +7,10 @@ namespace monocle {
 Result<std::unique_ptr<PoseQueryHandler>> PoseQueryHandler::Start(
     const std::shared_ptr<dds::Entity>& participant, const std::vector<CameraSetup>& cameras) {
   std::unique_ptr<PoseQueryHandler> h(new PoseQueryHandler());
-  std::vector<const CameraSetup*> corner_cameras;
-  for (const auto& c : cameras) {
-    if (c.corner()) corner_cameras.push_back(&c);
-  }
   auto server = Server::Start(
-      participant, corner_cameras, &monocle_msgs_srv_dds__GetPose_Request__desc,
-      &monocle_msgs_srv_dds__GetPose_Response__desc, wire::kGetPose,
+      participant, CamerasWith(cameras, &CameraSetup::corner),
+      &monocle_msgs_srv_dds__GetPose_Request__desc, &monocle_msgs_srv_dds__GetPose_Response__desc,
+      wire::kGetPose,
       [](const monocle_msgs_srv_dds__GetPose_Request_& r) {
         return static_cast<uint32_t>(r.which);
       },

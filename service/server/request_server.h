@@ -19,6 +19,16 @@
 
 namespace monocle {
 
+// The cameras that offer a service: those with the role (CameraSetup::floor or ::corner).
+inline std::vector<const CameraSetup*> CamerasWith(const std::vector<CameraSetup>& cameras,
+                                                   bool (CameraSetup::*has_role)() const) {
+  std::vector<const CameraSetup*> out;
+  for (const auto& c : cameras) {
+    if ((c.*has_role)()) out.push_back(&c);
+  }
+  return out;
+}
+
 template <typename Request, typename Reply, typename Value>
 class RequestServer {
  public:

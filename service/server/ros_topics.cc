@@ -101,8 +101,7 @@ Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::En
     r->tf_static_ = std::move(tf_static).value();
     tf2_msgs_msg_dds__TFMessage_ message{};
     message.transforms._buffer = mounts.data();
-    message.transforms._length = message.transforms._maximum =
-        static_cast<uint32_t>(mounts.size());
+    message.transforms._length = message.transforms._maximum = static_cast<uint32_t>(mounts.size());
     message.transforms._release = false;
     Report(r->tf_static_->Write(message));
   }

@@ -171,16 +171,18 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
       if (m.base_frame().empty())
         return errors.Camera(i, "mount.base_frame", "is missing, e.g. \"base_link\"", "mount");
       if (m.translation_m_size() != 3)
-        return errors.Camera(i, "mount.translation_m", "needs 3 values: x, y, z in metres", "mount");
+        return errors.Camera(i, "mount.translation_m", "needs 3 values: x, y, z in metres",
+                             "mount");
       if (m.rotation_xyzw_size() != 4)
-        return errors.Camera(i, "mount.rotation_xyzw", "needs 4 values: a quaternion x, y, z, w", "mount");
+        return errors.Camera(i, "mount.rotation_xyzw", "needs 4 values: a quaternion x, y, z, w",
+                             "mount");
       double norm2 = 0;
       for (double q : m.rotation_xyzw()) norm2 += q * q;
       if (!(std::abs(std::sqrt(norm2) - 1) < 1e-3))
-        return errors.Camera(i, "mount.rotation_xyzw",
-                             "must be a unit quaternion (its norm is " +
-                                 std::to_string(std::sqrt(norm2)) + ")",
-                             "mount");
+        return errors.Camera(
+            i, "mount.rotation_xyzw",
+            "must be a unit quaternion (its norm is " + std::to_string(std::sqrt(norm2)) + ")",
+            "mount");
       CameraSetup::Mount mount;
       mount.base_frame = m.base_frame();
       for (int k = 0; k < 3; ++k) mount.translation_m[static_cast<size_t>(k)] = m.translation_m(k);
