@@ -30,10 +30,9 @@ TEST(RobotFramesTest, BaseInParentMapsPointsLikeTheCameraDoes) {
     EXPECT_LT(recovered.rotation.angularDistance(parent_base.rotation), 1e-12);
     // A point in camera coordinates, through the camera or through base and mount.
     const Eigen::Vector3d p_camera(0.3, -0.2, 2.0);
-    EXPECT_LT((Apply(parent_camera, p_camera) -
-               Apply(recovered, Apply(base_camera, p_camera)))
-                  .norm(),
-              1e-12);
+    EXPECT_LT(
+        (Apply(parent_camera, p_camera) - Apply(recovered, Apply(base_camera, p_camera))).norm(),
+        1e-12);
   }
 }
 

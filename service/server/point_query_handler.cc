@@ -15,6 +15,13 @@ Result<std::unique_ptr<PointQueryHandler>> PointQueryHandler::Start(
       &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
       &monocle_msgs_srv_dds__MeasurePoints_Response__desc, wire::kMeasurePoints,
       [](const monocle_msgs_srv_dds__MeasurePoints_Request_& r) {
+        // Too many points is refused before their copies cost memory.
+        if (r.u._length > kMaxPointsPerRequest) {
+          return Query{MakeError(ErrorCode::kInvalidArgument,
+                                 "too many points in one request (" + std::to_string(r.u._length) +
+                                     " > " + std::to_string(kMaxPointsPerRequest) + "): split it"),
+                       r.pixel_sigma_px};
+        }
         return Query{wire::FromSample(r), r.pixel_sigma_px};
       },
       [self = h.get()](Server::Incoming&& in) { self->Answer(std::move(in)); });
