@@ -179,6 +179,19 @@ class Endpoint {
   Entity writer_, reader_, waitset_;
 };
 
+// Calls `on_data(reader, arg)` on Cyclone's receive thread whenever samples arrive at
+// `reader`; without `on_data`, removes the listener (waiting for a running call to return).
+inline Status SetDataAvailableListener(dds_entity_t reader,
+                                       void (*on_data)(dds_entity_t, void*) = nullptr,
+                                       void* arg = nullptr) {
+  dds_listener_t* listener = on_data != nullptr ? dds_create_listener(arg) : nullptr;
+  if (listener != nullptr) dds_lset_data_available(listener, on_data);
+  const dds_return_t rc = dds_set_listener(reader, listener);  // copies it
+  if (listener != nullptr) dds_delete_listener(listener);
+  if (rc < 0) return DdsError("cannot set a listener on a DDS reader", rc);
+  return Ok{};
+}
+
 // Waits for samples on several readers at once (one thread serving many endpoints).
 class WaitSet {
  public:

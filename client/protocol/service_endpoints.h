@@ -73,23 +73,30 @@ class ServiceServer {
     return replies_.Write(reply);
   }
 
+  // Whether a reply to this client reaches it now, without waiting (a reply that would have
+  // to wait for discovery must not be sent from Cyclone's receive thread, which discovery
+  // itself needs).
+  bool ClientReaderMatched(const RequestHeader& header) {
+    return WaitForClientReader(header.publication, std::chrono::milliseconds(0));
+  }
+
  private:
   ServiceServer(Endpoint<Request> requests, Endpoint<Reply> replies)
       : requests_(std::move(requests)), replies_(std::move(replies)) {}
 
-  void WaitForClientReader(dds_instance_handle_t publication, std::chrono::milliseconds limit) {
+  bool WaitForClientReader(dds_instance_handle_t publication, std::chrono::milliseconds limit) {
     {
       // Once a client's reader was seen matched it stays so: later requests cost no lookup.
       std::lock_guard<std::mutex> lock(*mutex_);
-      if (matched_clients_.count(publication) != 0) return;
+      if (matched_clients_.count(publication) != 0) return true;
     }
     dds_builtintopic_endpoint_t* writer =
         dds_get_matched_publication_data(requests_.reader(), publication);
-    if (writer == nullptr) return;  // the client is gone: nothing to wait for
+    if (writer == nullptr) return false;  // the client is gone: nothing to wait for
     const dds_guid_t client = writer->participant_key;
     dds_builtintopic_free_endpoint(writer);
     const auto deadline = std::chrono::steady_clock::now() + limit;
-    do {
+    for (;;) {
       dds_instance_handle_t handles[64];
       const dds_return_t n = dds_get_matched_subscriptions(replies_.writer(), handles, 64);
       for (dds_return_t i = 0; i < std::min<dds_return_t>(n, 64); ++i) {
@@ -104,11 +111,12 @@ class ServiceServer {
           // Bounded: a long-running service forgets old clients and looks them up again.
           if (matched_clients_.size() > 4096) matched_clients_.clear();
           matched_clients_.insert(publication);
-          return;
+          return true;
         }
       }
+      if (std::chrono::steady_clock::now() >= deadline) return false;
       dds_sleepfor(DDS_MSECS(1));
-    } while (std::chrono::steady_clock::now() < deadline);
+    }
   }
 
   Endpoint<Request> requests_;

@@ -1,6 +1,11 @@
 #include "service/server/camera_worker.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstring>
+#include <iostream>
 
 #include "camera/aravis/reconnecting_source.h"
 
@@ -11,6 +16,19 @@ int64_t UnixNowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+// The corner detection is throughput work (a frame every 33 ms, some milliseconds each);
+// point and pose queries are latency work. On a machine with few cores the detection would
+// otherwise hold a core while a query waits for it: bench/service_bench measured a 1-point
+// query's p50 at 1.16-1.30x ddsperf's with equal priority and 0.88-0.97x with the detection
+// thread at nice 10. Only this thread is lowered (Linux sets nice per thread).
+constexpr int kProcessingNice = 10;
+
+void LowerThisThreadsPriority() {
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kProcessingNice) != 0)
+    std::cerr << "monocled: cannot lower the detection thread's priority (" << std::strerror(errno)
+              << "); queries may wait behind detection\n";
 }
 
 // Frames the camera numbered but we never received. GigE Vision 1.x ids are 16 bits and skip
@@ -113,6 +131,7 @@ void CameraWorker::Acquire() {
 }
 
 void CameraWorker::Process() {
+  LowerThisThreadsPriority();
   while (true) {
     Frame frame;
     std::chrono::steady_clock::time_point received;

@@ -18,6 +18,7 @@ class PointQueryHandler {
       const CalibrationStore& calibrations);
 
  private:
+  static constexpr size_t kQuickPoints = 1000;
   struct Query {
     Result<std::vector<PixelQuery>> pixels = std::vector<PixelQuery>{};
     double pixel_sigma_px = 0;

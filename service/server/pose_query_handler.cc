@@ -15,7 +15,8 @@ Result<std::unique_ptr<PoseQueryHandler>> PoseQueryHandler::Start(
         return static_cast<uint32_t>(r.which);
       },
       [self = h.get()](Server::Incoming&& in) { self->Answer(std::move(in)); },
-      [self = h.get()] { self->ExpireWaiting(); });
+      // Never blocks: the latest pose is copied, a wait for the next frame is queued.
+      [](uint32_t) { return true; }, [self = h.get()] { self->ExpireWaiting(); });
   if (!server) return server.error();
   h->server_ = std::move(server).value();
   return h;
