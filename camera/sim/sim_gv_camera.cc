@@ -155,6 +155,10 @@ void SimScenes::Fill(ArvBuffer* buffer, void* self_ptr, guint32, guint32, ArvPix
   const int rows = std::min(h, src.rows), cols = std::min(w, src.cols);
   for (int y = 0; y < rows; ++y)
     std::memcpy(data + static_cast<size_t>(y) * w, src.ptr<uint8_t>(y), cols);
+  // Aravis's fake camera stamps the buffer before this copy (0.1-0.2 ms for 1.2 MB); the
+  // simulated frame exists only once copied, so it is complete now: stamp it so, as a real
+  // camera's frame is stamped when its data arrives, not before our own copying.
+  arv_buffer_set_system_timestamp(buffer, static_cast<guint64>(g_get_real_time()) * 1000);
 }
 
 }  // namespace monocle

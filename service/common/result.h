@@ -47,7 +47,11 @@ class Result {
     assert(ok());
     return std::get<T>(std::move(data_));
   }
+  // Non-const and rvalue forms too: `std::move(*result)` must move, not copy (a copy of a
+  // 100 000-point answer cost milliseconds per request).
   const T& operator*() const& { return value(); }
+  T& operator*() & { return value(); }
+  T&& operator*() && { return std::move(*this).value(); }
   const T* operator->() const { return &value(); }
   T* operator->() { return &value(); }
 

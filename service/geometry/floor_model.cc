@@ -149,11 +149,18 @@ Eigen::Matrix<double, Rows, Rows> Propagate(
     const MeasurementNoise& noise, const Eigen::Matrix<double, Rows, 4>& j_pose,
     const Eigen::Matrix<double, Rows, kNumIntrinsicParams>& j_intrinsics,
     const Eigen::Matrix<double, Rows, Pixels>& j_pixel) {
-  const Eigen::Matrix<double, Rows, Rows> cross =
-      j_pose * noise.pose_intrinsics_covariance * j_intrinsics.transpose();
-  return j_pose * noise.pose_covariance * j_pose.transpose() + cross + cross.transpose() +
-         j_intrinsics * noise.intrinsics_covariance * j_intrinsics.transpose() +
-         noise.pixel_sigma_px * noise.pixel_sigma_px * j_pixel * j_pixel.transpose();
+  // lazyProduct: Eigen sends fixed-size products this large (2x9 by 9x9) through its blocked
+  // GEMM, whose packing cost more than the arithmetic (7 % of a 100 000-point request's CPU
+  // in perf); coefficient-wise products of these small sizes are cheaper.
+  const Eigen::Matrix<double, Rows, kNumIntrinsicParams> j_pose_c =
+      j_pose.lazyProduct(noise.pose_intrinsics_covariance);
+  const Eigen::Matrix<double, Rows, kNumIntrinsicParams> j_k_k =
+      j_intrinsics.lazyProduct(noise.intrinsics_covariance);
+  const Eigen::Matrix<double, Rows, 4> j_pose_p = j_pose.lazyProduct(noise.pose_covariance);
+  const Eigen::Matrix<double, Rows, Rows> cross = j_pose_c.lazyProduct(j_intrinsics.transpose());
+  return j_pose_p.lazyProduct(j_pose.transpose()) + cross + cross.transpose() +
+         j_k_k.lazyProduct(j_intrinsics.transpose()) +
+         noise.pixel_sigma_px * noise.pixel_sigma_px * j_pixel.lazyProduct(j_pixel.transpose());
 }
 
 }  // namespace
