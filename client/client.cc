@@ -30,7 +30,10 @@ constexpr milliseconds kStatusStale{10000};
 // How long a camera once found is taken to stay where it was.
 constexpr milliseconds kResolvedFresh{1000};
 
-ClientError DdsFailure(const Error& e) { return {ClientError::Code::kDds, e.message}; }
+ClientError DdsFailure(const Error& e) {
+  if (e.code == ErrorCode::kPermissionDenied) return {ClientError::Code::kNotPermitted, e.message};
+  return {ClientError::Code::kDds, e.message};
+}
 
 ClientError NoService(int domain, milliseconds timeout, const std::string& what) {
   return {ClientError::Code::kNoService, "no " + what + " from the monocle service on DDS domain " +
@@ -272,7 +275,19 @@ struct Client::Impl {
     auto& service = ch.by_namespace[ns];
     if (!service) {
       auto opened = Service::Open(participant, request_type, reply_type, ns, service_name);
-      if (!opened) return DdsFailure(opened.error());
+      if (!opened) {
+        if (opened.error().code == ErrorCode::kPermissionDenied) {
+          return ClientError{ClientError::Code::kNotPermitted,
+                             std::string(service_name) + " of camera '" + camera +
+                                 "': this client's DDS Security permissions (" +
+                                 options.security_dir + ") do not allow it" +
+                                 (std::string(service_name) == wire::kCalibrateFloor
+                                      ? "; floor calibration takes the operator role (monocle "
+                                        "security init KEYSTORE --client NAME:operator)"
+                                      : "")};
+        }
+        return DdsFailure(opened.error());
+      }
       service = std::make_unique<Service>(std::move(opened).value());
     }
     const std::string what = std::string(service_name) + " reply of camera '" + camera + "'";
@@ -296,7 +311,7 @@ Client& Client::operator=(Client&&) noexcept = default;
 ClientResult<Client> Client::open(Options options) {
   if (options.domain < 0 || options.domain > 232)
     return ClientError{ClientError::Code::kInvalidRequest, "the DDS domain must be 0..232"};
-  auto participant = dds::CreateParticipant(options.domain);
+  auto participant = dds::CreateParticipant(options.domain, options.security_dir);
   if (!participant) return DdsFailure(participant.error());
   auto impl = std::make_unique<Impl>();
   impl->options = options;

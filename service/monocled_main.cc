@@ -9,13 +9,15 @@
 #include <iostream>
 #include <string>
 
+#include "client/protocol/dds.h"
 #include "service/server/service.h"
 #include "service/server/service_config.h"
 
 namespace {
 
 constexpr const char* kUsage =
-    R"(Usage: monocled [--config FILE.pbtxt] [--domain D] [--state-dir DIR] [--print-config]
+    R"(Usage: monocled [--config FILE.pbtxt] [--domain D] [--security DIR] [--state-dir DIR]
+                [--print-config]
 
 The monocle service: measures robot poses from ceiling corners and floor points from its
 cameras and serves them over Cyclone DDS (topics in the README, "The service over DDS").
@@ -26,6 +28,8 @@ cameras and serves them over Cyclone DDS (topics in the README, "The service ove
                    Without it: the embedded default, the two in-process simulated cameras
                    sim-corner and sim-floor.
   --domain D       DDS domain id, overrides the configuration's (0..232)
+  --security DIR   DDS Security: the service's identity directory of a keystore made by
+                   `monocle security init` (overrides the configuration's security_dir)
   --state-dir DIR  where the embedded default keeps its calibration files (default
                    $XDG_STATE_HOME/monocle, else ~/.local/state/monocle)
   --print-config   print the embedded default configuration and exit
@@ -56,6 +60,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   std::string config_path, state_dir = DefaultStateDir();
   std::optional<int> domain;
+  std::string security_dir;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -67,6 +72,8 @@ int main(int argc, char** argv) {
       return 0;
     } else if (a == "--config" && has_value) {
       config_path = argv[++i];
+    } else if (a == "--security" && has_value) {
+      security_dir = argv[++i];
     } else if (a == "--state-dir" && has_value) {
       state_dir = argv[++i];
     } else if (a == "--domain" && has_value) {
@@ -74,7 +81,7 @@ int main(int argc, char** argv) {
       const long d = std::strtol(argv[++i], &end, 10);
       if (*end != '\0' || d < 0 || d > 232) return Usage("--domain must be 0..232");
       domain = static_cast<int>(d);
-    } else if (a == "--config" || a == "--state-dir" || a == "--domain") {
+    } else if (a == "--config" || a == "--state-dir" || a == "--domain" || a == "--security") {
       return Usage(a + " needs a value");
     } else {
       return Usage("unknown option " + a);
@@ -97,6 +104,15 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (domain) setup->domain = *domain;
+  if (!security_dir.empty()) {
+    if (auto c = monocle::dds::CheckSecurityDirectory(security_dir); !c) {
+      std::cerr << "monocled: error: --security: " << c.error() << "\n";
+      return 2;
+    }
+    setup->security_dir = security_dir;
+  }
+  if (!setup->security_dir.empty() && setup->domain > 230)
+    return Usage("a secured domain must be 0..230 (DDS Security governance)");
 
   // Stop signals are waited for here; every thread started below inherits the mask.
   sigset_t stop_signals;
@@ -120,7 +136,10 @@ int main(int argc, char** argv) {
   }
   std::cerr << "monocled: serving on DDS domain " << setup->domain << " as " << service->get()->id()
             << " (ROS 2: ROS_DOMAIN_ID=" << setup->domain
-            << ", also /tf, /diagnostics, /monocle/cameras, /monocle/calibrations)\n";
+            << ", also /tf, /diagnostics, /monocle/cameras, /monocle/calibrations)"
+            << (setup->security_dir.empty() ? ", plain DDS (no security_dir)"
+                                            : ", DDS Security as " + setup->security_dir)
+            << "\n";
   const auto period = setup->status_period;
   timespec wait{static_cast<time_t>(period.count() / 1000),
                 static_cast<long>(period.count() % 1000) * 1000000L};

@@ -26,6 +26,8 @@ int RenderCommand(const std::vector<std::string>& args);
 int RenderBoards(const std::vector<std::string>& args);  // render boards
 // The running service's cameras (over DDS).
 int StatusCommand(const std::vector<std::string>& args);
+// DDS Security keystores (security init).
+int SecurityCommand(const std::vector<std::string>& args);
 
 // Prints "monocle: error: <message>" on stderr and returns `status`.
 int Fail(const std::string& message, int status);

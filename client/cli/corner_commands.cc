@@ -62,6 +62,8 @@ Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --count N                stop after N poses (default 1); --follow: until Ctrl-C
   --domain D               DDS domain id (default 0); --timeout S: give up after S seconds
                            without a pose (default 10)
+  --security DIR           this client's identity of a secured service's keystore
+                           (`monocle security init`; default $MONOCLE_SECURITY)
 
 Any image OpenCV reads (PNG, PGM, JPEG, ...). An image without a corner is reported and
 the others are still processed; the exit status is 1 if any image failed.
@@ -242,7 +244,7 @@ int Locate(const std::vector<std::string>& argv) {
     return kExitOk;
   }
   auto args = Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera",
-                                  "--count", "--domain", "--timeout", "--detect-every"},
+                                  "--count", "--domain", "--timeout", "--security", "--detect-every"},
                                  {"--json", "--follow", "--track"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->Has("--camera")) return LocateLive(*args);

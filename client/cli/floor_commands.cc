@@ -67,6 +67,8 @@ Live, from the running service (monocled) over DDS, instead of IMAGE and --calib
                            next frame, writes its calibration file atomically and publishes
                            the new calibration (topic /monocle/calibrations)
   --domain D               DDS domain id (default 0); --timeout S (default 10)
+  --security DIR           this client's identity (operator role) of a secured service's
+                           keystore (`monocle security init`; default $MONOCLE_SECURITY)
 
 Board axes: x_p to the right in the image, y_p away from the camera.
 )";
@@ -90,6 +92,8 @@ Each result's sigma combines the calibration's covariance and the pixel noise.
 Live, from the running service (monocled) over DDS, instead of --calibration:
   --camera ID             the floor camera monocled answers for (e.g. sim-floor)
   --domain D              DDS domain id (default 0); --timeout S (default 10)
+  --security DIR          this client's identity of a secured service's keystore
+                          (`monocle security init`; default $MONOCLE_SECURITY)
 Exit status 1 when any point could not be measured.
 )";
 
@@ -257,7 +261,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   }
   auto args =
       Args::Parse(argv, {{"--calibration", "--board", "--square", "--method", "--camera",
-                          "--domain", "--timeout", "--overlay", "--target-sigma", "--pixel-sigma"},
+                          "--domain", "--timeout", "--security", "--overlay", "--target-sigma", "--pixel-sigma"},
                          {"--write", "--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto spec = RequireBoard(*args);
@@ -378,7 +382,7 @@ int Measure(const std::vector<std::string>& argv) {
     return kExitOk;
   }
   auto args = Args::Parse(
-      argv, {{"--calibration", "--pixel-sigma", "--camera", "--domain", "--timeout"}, {"--json"}});
+      argv, {{"--calibration", "--pixel-sigma", "--camera", "--domain", "--timeout", "--security"}, {"--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto pixel_sigma = args->GetDouble("--pixel-sigma", kDefaultPixelSigmaPx);
   if (!pixel_sigma || *pixel_sigma < 0)

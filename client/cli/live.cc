@@ -1,6 +1,7 @@
 #include "client/cli/live.h"
 
 #include <cmath>
+#include <cstdlib>
 
 #include "client/cli/commands.h"
 
@@ -20,6 +21,11 @@ std::optional<Client> OpenClient(const Args& args, int* exit_status) {
   Client::Options options;
   options.domain = static_cast<int>(*domain);
   options.timeout = std::chrono::milliseconds(static_cast<int64_t>(*timeout_s * 1000));
+  if (auto dir = args.Get("--security")) {
+    options.security_dir = *dir;
+  } else if (const char* env = std::getenv("MONOCLE_SECURITY"); env != nullptr && *env != 0) {
+    options.security_dir = env;
+  }
   auto client = Client::open(options);
   if (!client) {
     *exit_status = Fail(client.error());

@@ -34,7 +34,7 @@ Commands:
                [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
       Renders a chessboard (and boxes) on the floor as the calibrated camera sees it.
 
-Live, from the running service (monocled) over DDS [--domain D] [--timeout S]:
+Live, from the running service (monocled) over DDS [--domain D] [--timeout S] [--security DIR]:
   corner locate --camera ID [--count N] [--follow] [--json]
       The camera's poses as the service streams them.
   floor measure --camera ID [--pixel-sigma PX] [--json] POINT...
@@ -43,6 +43,9 @@ Live, from the running service (monocled) over DDS [--domain D] [--timeout S]:
       The service calibrates the floor from the camera's next frame, stores and publishes it.
   status [--watch] [--json]
       The service's cameras: state, fps, dropped frames, latency, last error.
+
+  security init DIR [--client NAME[:reader|operator]]...
+      A DDS Security keystore: a CA, identities for monocled and each client, permissions.
 
   cameras [--json]
       Lists the GigE Vision and USB3 Vision cameras Aravis sees.
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
   if (command == "intrinsics") return monocle::cli::IntrinsicsCommand(rest);
   if (command == "render") return monocle::cli::RenderCommand(rest);
   if (command == "status") return monocle::cli::StatusCommand(rest);
+  if (command == "security") return monocle::cli::SecurityCommand(rest);
   if (command == "--version") {
     std::cout << "monocle 0.1.0\n";
     return 0;

@@ -12,7 +12,7 @@ namespace monocle::cli {
 namespace {
 
 constexpr const char* kStatusHelp =
-    R"(Usage: monocle status [--watch] [--json] [--domain D] [--timeout S]
+    R"(Usage: monocle status [--watch] [--json] [--domain D] [--timeout S] [--security DIR]
 
 Every camera of every monocled on the DDS domain (topic /monocle/cameras): its ROS namespace
 (where its topics and services are; name a camera by it when several robots share a domain),
@@ -25,6 +25,8 @@ and the last error. Two monocled serving the same namespace are reported (exit s
   --json       one JSON object per camera per line
   --domain D   DDS domain id (default 0)
   --timeout S  give up after S seconds without an answer (default 10)
+  --security DIR  this client's identity of a secured service's keystore
+               (`monocle security init`; default $MONOCLE_SECURITY)
 )";
 
 proto::StatusOutput ToOutput(const CameraStatus& s) {
@@ -73,7 +75,7 @@ int StatusCommand(const std::vector<std::string>& argv) {
     std::cout << kStatusHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--domain", "--timeout"}, {"--watch", "--json"}});
+  auto args = Args::Parse(argv, {{"--domain", "--timeout", "--security"}, {"--watch", "--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (!args->positionals().empty())
     return Fail("status takes no arguments (see --help)", kExitUsage);

@@ -24,7 +24,13 @@ struct EndpointQos {
 Error DdsError(const std::string& what, dds_return_t rc);
 
 class Entity;
-Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain);
+// A participant on `domain`. With `security_dir` (one identity of a keystore made by `monocle
+// security init`, client/security/keystore.h) it authenticates, encrypts and is bound by
+// that identity's permissions (DDS Security); empty: plain DDS.
+Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain,
+                                                  const std::string& security_dir = "");
+// Whether `dir` holds an identity's six files; the error names the first missing one.
+Status CheckSecurityDirectory(const std::string& dir);
 
 class Entity {
  public:

@@ -16,6 +16,7 @@ enum class ErrorCode {
   kIo,               // reading or writing failed
   kDegenerate,       // the geometry has no (unique) answer
   kOutOfRange,       // a value outside what the model can handle
+  kPermissionDenied, // DDS Security permissions forbid it
 };
 
 struct Error {

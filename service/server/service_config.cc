@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "camera/sim/sim_gv_camera.h"
+#include "client/protocol/dds.h"
 #include "idl/service_config.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/io/text_proto.h"
@@ -78,6 +79,15 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
   // Cyclone DDS maps a domain to UDP ports; 232 is the highest id whose ports fit.
   if (msg.domain() < 0 || msg.domain() > 232) return errors.Top("domain", "must be 0..232");
   out.domain = msg.domain();
+  if (!msg.security_dir().empty()) {
+    std::filesystem::path dir = msg.security_dir();
+    if (dir.is_relative() && !base_dir.empty()) dir = std::filesystem::path(base_dir) / dir;
+    out.security_dir = dir.string();
+    if (auto c = dds::CheckSecurityDirectory(out.security_dir); !c)
+      return errors.Top("security_dir", c.error().message);
+    // DDS Security's governance documents name domains 0..230 (Cyclone rejects more).
+    if (out.domain > 230) return errors.Top("domain", "must be 0..230 with security_dir");
+  }
   if (msg.has_status_period_s()) {
     if (!(msg.status_period_s() >= 0.05 && msg.status_period_s() <= 3600))
       return errors.Top("status_period_s", "must be 0.05..3600 seconds");

@@ -47,6 +47,7 @@ struct CameraSetup {
 
 struct ServiceSetup {
   int domain = 0;
+  std::string security_dir;  // DDS Security identity directory; empty: plain DDS
   std::vector<CameraSetup> cameras;
   std::chrono::milliseconds status_period{1000};
 };

@@ -33,6 +33,8 @@ struct ClientError {
     kInvalidRequest,  // the service rejected the request: unknown camera, bad values, ...
     kFailed,          // the service could not do it: no frame, no board in view, no pose yet
     kDds,             // DDS itself failed (configuration, resources)
+    kNotPermitted,    // this client's DDS Security permissions forbid it (e.g. a reader
+                      // sending a floor calibration: that takes the operator role)
   };
   Code code = Code::kFailed;
   std::string message;  // a sentence a user can act on
@@ -86,6 +88,9 @@ class MONOCLE_CLIENT_API Client {
   struct Options {
     int domain = 0;                           // DDS domain of the service
     std::chrono::milliseconds timeout{5000};  // per request, including finding the service
+    // A secured service (DDS Security): this client's identity directory of the keystore
+    // `monocle security init` made (e.g. KEYSTORE/robot_ui). Empty: plain DDS.
+    std::string security_dir{};
   };
 
   static ClientResult<Client> open(Options options);
