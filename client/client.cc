@@ -326,6 +326,11 @@ ClientResult<Client> Client::open(Options options) {
 ClientResult<std::vector<MeasuredPoint>> Client::measure(const std::string& camera,
                                                          const std::vector<PixelQuery>& pixels,
                                                          double pixel_sigma_px) {
+  if (pixels.size() > wire::kMaxPointsPerRequest) {
+    return ClientError{ClientError::Code::kInvalidRequest,
+                       "too many points in one request (" + std::to_string(pixels.size()) +
+                           " > " + std::to_string(wire::kMaxPointsPerRequest) + "): split it"};
+  }
   wire::PointRequestColumns columns;
   monocle_msgs_srv_dds__MeasurePoints_Request_ request;
   wire::ToSample(pixels, pixel_sigma_px, &columns, &request);

@@ -1,5 +1,6 @@
 #include "client/protocol/dds.h"
 
+#include <cstdlib>
 #include <filesystem>
 
 namespace monocle::dds {
@@ -52,10 +53,27 @@ Status CheckSecurityDirectory(const std::string& dir) {
 }
 
 Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain,
-                                                  const std::string& security_dir) {
-  dds_qos_t* qos = nullptr;
+                                                  const std::string& security_dir,
+                                                  size_t max_sample_bytes) {
   if (!security_dir.empty()) {
     if (auto c = CheckSecurityDirectory(security_dir); !c) return c.error();
+  }
+  dds_entity_t owned_domain = 0;
+  if (max_sample_bytes > 0) {
+    // The user's configuration (CYCLONEDDS_URI, a list of files and XML) first, ours last:
+    // Cyclone applies them in order, so only MaxSampleSize is overridden.
+    std::string config;
+    if (const char* uri = std::getenv("CYCLONEDDS_URI"); uri != nullptr && *uri != '\0')
+      config = std::string(uri) + ",";
+    config += "<CycloneDDS><Domain id=\"any\"><Internal><MaxSampleSize>" +
+              std::to_string(max_sample_bytes) +
+              "B</MaxSampleSize></Internal></Domain></CycloneDDS>";
+    owned_domain = dds_create_domain(domain, config.c_str());
+    if (owned_domain < 0)
+      return DdsError("cannot create DDS domain " + std::to_string(domain), owned_domain);
+  }
+  dds_qos_t* qos = nullptr;
+  if (!security_dir.empty()) {
     const std::string abs = std::filesystem::absolute(security_dir).lexically_normal().string();
     qos = dds_create_qos();
     // The plugins by their default names: Debian's libddsc finds them in its private
@@ -72,7 +90,9 @@ Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain,
     for (const auto& f : kSecurityFiles)
       dds_qset_prop(qos, f.property, ("file:" + abs + "/" + f.name).c_str());
   }
-  auto participant = std::make_shared<Entity>(dds_create_participant(domain, qos, nullptr));
+  const dds_entity_t handle = dds_create_participant(domain, qos, nullptr);
+  auto participant = std::make_shared<Entity>(handle, handle > 0 ? owned_domain : 0);
+  if (handle <= 0 && owned_domain > 0) dds_delete(owned_domain);
   if (qos != nullptr) dds_delete_qos(qos);
   if (participant->get() < 0) {
     if (!security_dir.empty()) {

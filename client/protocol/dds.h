@@ -27,8 +27,12 @@ class Entity;
 // A participant on `domain`. With `security_dir` (one identity of a keystore made by `monocle
 // security init`, client/security/keystore.h) it authenticates, encrypts and is bound by
 // that identity's permissions (DDS Security); empty: plain DDS.
+// `max_sample_bytes` > 0 (a service): Cyclone drops every sample larger than this, in either
+// direction, as its first fragment arrives (Internal/MaxSampleSize), before any memory is
+// spent on it; the domain is then created here, with CYCLONEDDS_URI's configuration first.
 Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain,
-                                                  const std::string& security_dir = "");
+                                                  const std::string& security_dir = "",
+                                                  size_t max_sample_bytes = 0);
 // Whether `dir` holds an identity's six files; the error names the first missing one.
 Status CheckSecurityDirectory(const std::string& dir);
 
@@ -36,14 +40,15 @@ class Entity {
  public:
   Entity() = default;
   explicit Entity(dds_entity_t e) : e_(e) {}
-  ~Entity() {
-    if (e_ > 0) dds_delete(e_);
-  }
-  Entity(Entity&& o) noexcept : e_(std::exchange(o.e_, 0)) {}
+  // A participant on a domain it created itself owns that domain too, deleted after it.
+  Entity(dds_entity_t e, dds_entity_t owned_domain) : e_(e), domain_(owned_domain) {}
+  ~Entity() { Reset(); }
+  Entity(Entity&& o) noexcept : e_(std::exchange(o.e_, 0)), domain_(std::exchange(o.domain_, 0)) {}
   Entity& operator=(Entity&& o) noexcept {
     if (this != &o) {
-      if (e_ > 0) dds_delete(e_);
+      Reset();
       e_ = std::exchange(o.e_, 0);
+      domain_ = std::exchange(o.domain_, 0);
     }
     return *this;
   }
@@ -52,7 +57,13 @@ class Entity {
   dds_entity_t get() const { return e_; }
 
  private:
+  void Reset() {
+    if (e_ > 0) dds_delete(e_);
+    if (domain_ > 0) dds_delete(domain_);
+    e_ = domain_ = 0;
+  }
   dds_entity_t e_ = 0;
+  dds_entity_t domain_ = 0;
 };
 
 // A participant with one topic of type T and, as asked, a writer and/or a reader.

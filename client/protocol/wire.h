@@ -40,6 +40,13 @@ inline constexpr dds::EndpointQos kRosDefaultQos{10, false};
 // Requests are taken by the service's handler at once; a deeper reader history keeps a burst
 // from many clients (history is not matched between writer and reader, so ROS still matches).
 inline constexpr dds::EndpointQos kRequestReaderQos{64, false};
+// The largest sample the service sends or takes: a 100 000-point reply is 5.6 MB, a request
+// 3.2 MB. Larger ones are dropped by Cyclone as their first fragment arrives, unanswered and
+// before any memory is spent on them (a 50 M-point request is 1.6 GB).
+inline constexpr size_t kMaxSampleBytes = 8u << 20;
+// Points in one measure_points request; the client library refuses more before sending (a
+// larger sample would be dropped unanswered), the service refuses more with a typed error.
+inline constexpr size_t kMaxPointsPerRequest = 100000;
 // Directory topics (cameras, calibrations): each writer keeps its camera's latest.
 inline constexpr dds::EndpointQos kDirectoryWriterQos{1, true};
 // A reader of them keeps every camera's (the topic has no key: history is per reader).

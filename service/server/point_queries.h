@@ -1,6 +1,8 @@
 // Answers point queries: pixels of a floor camera -> robot-frame points with 1-sigma.
 #pragma once
 
+#include "client/protocol/wire.h"
+
 #include <cstdint>
 #include <map>
 #include <string>
@@ -11,7 +13,7 @@
 
 namespace monocle {
 
-inline constexpr size_t kMaxPointsPerRequest = 100000;
+inline constexpr size_t kMaxPointsPerRequest = wire::kMaxPointsPerRequest;
 inline constexpr double kDefaultPixelSigmaPx = 0.5;
 
 struct PixelPair {

@@ -1,0 +1,373 @@
+// hostile_load: what a hostile (or broken) participant can do to monocled, over raw DDS so it
+// sends what the client library never would, measured as a well-behaved client sees it.
+//
+//   1. one huge point request (default 50 M points, 1.6 GB): how long until a good client's
+//      query is answered again, how much monocled's resident memory grows;
+//   2. a flood of one-point requests with a fresh client id (guid) each, from another process,
+//      for --flood-seconds: the good client's queries meanwhile (lost, p50, p99), RSS growth;
+//   3. --clients clients x --queries queries each at once: lost, p99.
+//
+// monocled runs in its own process with its simulated cameras (state in a temporary
+// directory), DDS on loopback (docker/cyclonedds-loopback.xml unless CYCLONEDDS_URI is set).
+// The goals are printed beside each figure. `--json` prints one JSON object for tests.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <mutex>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "client/protocol/convert.h"
+#include "client/protocol/dds.h"
+#include "client/protocol/wire.h"
+#include "monocle/client.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+using Request = monocle_msgs_srv_dds__MeasurePoints_Request_;
+using Reply = monocle_msgs_srv_dds__MeasurePoints_Response_;
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
+}
+
+pid_t Spawn(const std::vector<std::string>& args, const std::string& log) {
+  std::cout.flush();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (freopen(log.c_str(), "w", stdout) == nullptr ||
+        freopen(log.c_str(), "a", stderr) == nullptr)
+      _exit(126);
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+void Stop(pid_t pid) {
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+}
+
+// Resident memory of a process, MB.
+double RssMb(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0;
+}
+
+// Samples a process's RSS every 10 ms while alive; the peak.
+class RssWatch {
+ public:
+  explicit RssWatch(pid_t pid) : pid_(pid) {
+    thread_ = std::thread([this] {
+      while (!stop_) {
+        peak_ = std::max(peak_.load(), RssMb(pid_));
+        std::this_thread::sleep_for(10ms);
+      }
+    });
+  }
+  double Stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    return peak_;
+  }
+  ~RssWatch() { Stop(); }
+
+ private:
+  pid_t pid_;
+  std::atomic<bool> stop_{false};
+  std::atomic<double> peak_{0};
+  std::thread thread_;
+};
+
+// The workers: separate processes, raw DDS on the camera's request topic.
+int HugeWorker(int domain, const std::string& ns, size_t points) {
+  auto ep = monocle::dds::Endpoint<Request>::Open(
+      domain, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+      monocle::wire::RequestTopic(ns, monocle::wire::kMeasurePoints).c_str(), true, false,
+      monocle::wire::kRosDefaultQos);
+  if (!ep || !ep->WaitForReader(10s)) return 1;
+  std::vector<double> column(points, 640.0);
+  Request r{};
+  r.guid = 42;
+  r.seq = 1;
+  for (auto* seq : {&r.u, &r.v, &r.foot_u, &r.foot_v}) {
+    seq->_buffer = column.data();
+    seq->_length = seq->_maximum = static_cast<uint32_t>(points);
+    seq->_release = false;
+  }
+  std::cout << "writing " << points << " points" << std::endl;
+  const auto w = ep->Write(r);
+  std::cout << (w ? "written" : "write failed: " + w.error().message) << std::endl;
+  std::this_thread::sleep_for(3s);  // keep the writer while fragments go out
+  return 0;
+}
+
+int FloodWorker(int domain, const std::string& ns, double seconds) {
+  auto participant = monocle::dds::CreateParticipant(domain);
+  if (!participant) return 1;
+  // A reply reader too, so the service sees a client it can answer (the costlier case).
+  auto replies = monocle::dds::Endpoint<Reply>::Open(
+      *participant, &monocle_msgs_srv_dds__MeasurePoints_Response__desc,
+      monocle::wire::ReplyTopic(ns, monocle::wire::kMeasurePoints).c_str(), false, true,
+      monocle::wire::kRosDefaultQos);
+  auto ep = monocle::dds::Endpoint<Request>::Open(
+      *participant, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+      monocle::wire::RequestTopic(ns, monocle::wire::kMeasurePoints).c_str(), true, false,
+      monocle::wire::kRosDefaultQos);
+  if (!replies || !ep || !ep->WaitForReader(10s)) return 1;
+  monocle::wire::PointRequestColumns columns;
+  Request r{};
+  monocle::wire::ToSample({{640, 900, std::nullopt}}, 0, &columns, &r);
+  std::mt19937_64 rng(7);
+  uint64_t sent = 0;
+  const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+  while (Clock::now() < end) {
+    r.guid = rng() | 1;  // a fresh client id every time
+    r.seq = static_cast<int64_t>(++sent);
+    (void)ep->Write(r);
+    if ((sent & 1023) == 0) (void)replies->Take<int>(0ms, [](const Reply&) { return 0; });
+  }
+  std::cout << "sent " << sent << std::endl;
+  return 0;
+}
+
+struct Latencies {
+  std::vector<double> ms;
+  int lost = 0;
+};
+
+Latencies QueryFor(monocle::Client& client, Clock::duration how_long, int max_queries = 1 << 30) {
+  Latencies out;
+  const auto start = Clock::now();
+  const auto end = start + how_long;
+  for (int i = 0; i < max_queries && Clock::now() < end; ++i) {
+    const auto t0 = Clock::now();
+    const auto r = client.measure("sim-floor", {{640, 900, std::nullopt}});
+    if (!r || !(*r)[0].ok()) {
+      ++out.lost;
+      std::cerr << "lost after " << std::chrono::duration<double>(t0 - start).count()
+                << " s: " << (r ? (*r)[0].error : r.error().message) << "\n";
+      continue;
+    }
+    out.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    std::this_thread::sleep_for(5ms);  // a robot asking 100-200 times a second
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int domain = 37, clients = 32, queries = 500;
+  size_t huge_points = 50'000'000;
+  double flood_seconds = 10;
+  bool json = false;
+  std::string worker, ns = "/monocle/sim_floor";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool v = i + 1 < argc;
+    if (a == "--json") {
+      json = true;
+    } else if (a == "--domain" && v) {
+      domain = std::atoi(argv[++i]);
+    } else if (a == "--points" && v) {
+      huge_points = std::strtoull(argv[++i], nullptr, 10);
+    } else if (a == "--flood-seconds" && v) {
+      flood_seconds = std::atof(argv[++i]);
+    } else if (a == "--clients" && v) {
+      clients = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--queries" && v) {
+      queries = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--worker" && v) {
+      worker = argv[++i];
+    } else {
+      std::cerr << "usage: hostile_load [--points N] [--flood-seconds S] [--clients C] "
+                   "[--queries Q] [--domain D] [--json]\n";
+      return 2;
+    }
+  }
+  if (std::getenv("CYCLONEDDS_URI") == nullptr)
+    setenv(
+        "CYCLONEDDS_URI",
+        ("file://" + std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml").c_str(),
+        1);
+  if (worker == "huge") return HugeWorker(domain, ns, huge_points);
+  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds);
+
+  const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
+  const std::string build = self.parent_path().parent_path().string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("monocle_hostile_" + std::to_string(getpid())))
+          .string();
+  std::filesystem::create_directories(dir);
+  const pid_t monocled = Spawn({build + "/service/monocled", "--domain", std::to_string(domain),
+                                "--state-dir", dir + "/state"},
+                               dir + "/monocled.log");
+  auto client = monocle::Client::open({domain, 5s});
+  if (!client) {
+    std::cerr << client.error() << "\n";
+    Stop(monocled);
+    return 1;
+  }
+  for (int tries = 0; !client->measure("sim-floor", {{640, 900, std::nullopt}}); ++tries) {
+    if (tries == 60) {
+      std::cerr << "monocled does not answer: see " << dir << "/monocled.log\n";
+      Stop(monocled);
+      return 1;
+    }
+    std::this_thread::sleep_for(1s);
+  }
+  std::this_thread::sleep_for(3s);  // the simulators' start-up rendering is over
+  if (!json) std::cout << "monocled ready (RSS " << RssMb(monocled) << " MB)\n";
+
+  // RSS moves by tens of MB with the corner camera's processing: growth is measured from the
+  // peak of a quiet second before each scenario.
+  const auto quiet_peak = [&] {
+    RssWatch w(monocled);
+    std::this_thread::sleep_for(1s);
+    return w.Stop();
+  };
+  // 1. The huge request.
+  const double rss_before_huge = quiet_peak();
+  RssWatch huge_watch(monocled);
+  const auto huge_start = Clock::now();
+  const pid_t huge = Spawn({self.string(), "--worker", "huge", "--points",
+                            std::to_string(huge_points), "--domain", std::to_string(domain)},
+                           dir + "/huge.log");
+  // Until the worker has written (its log says so), then the time a good query takes.
+  double written_after_s = -1;
+  for (int i = 0; i < 6000; ++i) {
+    std::ifstream log(dir + "/huge.log");
+    std::string all((std::istreambuf_iterator<char>(log)), {});
+    if (all.find("written") != std::string::npos || all.find("failed") != std::string::npos) {
+      written_after_s = std::chrono::duration<double>(Clock::now() - huge_start).count();
+      break;
+    }
+    std::this_thread::sleep_for(5ms);
+  }
+  const auto t0 = Clock::now();
+  const auto good = client->measure("sim-floor", {{640, 900, std::nullopt}});
+  const double good_after_huge_ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  const bool good_ok = good && (*good)[0].ok();
+  waitpid(huge, nullptr, 0);
+  const double huge_rss_growth = huge_watch.Stop() - rss_before_huge;
+
+  // 2. The flood.
+  Latencies during_flood;
+  double flood_rss_growth = 0;
+  if (flood_seconds > 0) {
+    const double rss_before_flood = quiet_peak();
+    RssWatch flood_watch(monocled);
+    const pid_t flood = Spawn({self.string(), "--worker", "flood", "--flood-seconds",
+                               std::to_string(flood_seconds), "--domain", std::to_string(domain)},
+                              dir + "/flood.log");
+    std::this_thread::sleep_for(1s);  // its discovery; the flood is on from here
+    during_flood =
+        QueryFor(*client, std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(std::max(0.5, flood_seconds - 1.5))));
+    waitpid(flood, nullptr, 0);
+    flood_rss_growth = flood_watch.Stop() - rss_before_flood;
+  }
+  std::string flood_sent;
+  {
+    std::ifstream log(dir + "/flood.log");
+    for (std::string line; std::getline(log, line);)
+      if (line.rfind("sent ", 0) == 0) flood_sent = line.substr(5);
+  }
+
+  // 3. Many clients at once.
+  std::mutex m;
+  Latencies many;
+  std::vector<std::thread> threads;
+  for (int c = 0; c < clients; ++c) {
+    threads.emplace_back([&] {
+      auto own = monocle::Client::open({domain, 10s});
+      if (!own) {
+        std::lock_guard<std::mutex> lock(m);
+        many.lost += queries;
+        return;
+      }
+      Latencies mine;
+      for (int q = 0; q < queries; ++q) {
+        const auto s = Clock::now();
+        const auto r = own->measure("sim-floor", {{640, 900, std::nullopt}});
+        if (!r || !(*r)[0].ok()) {
+          if (mine.lost++ == 0) {
+            std::lock_guard<std::mutex> lock(m);
+            std::cerr << "a client's query failed: " << (r ? (*r)[0].error : r.error().message)
+                      << "\n";
+          }
+          continue;
+        }
+        mine.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
+      }
+      std::lock_guard<std::mutex> lock(m);
+      many.lost += mine.lost;
+      many.ms.insert(many.ms.end(), mine.ms.begin(), mine.ms.end());
+    });
+  }
+  for (auto& t : threads) t.join();
+  const bool alive = waitpid(monocled, nullptr, WNOHANG) == 0;
+  Stop(monocled);
+
+  if (json) {
+    std::cout << std::fixed << std::setprecision(3) << "{\"huge_points\":" << huge_points
+              << ",\"huge_written_after_s\":" << written_after_s
+              << ",\"good_after_huge_ok\":" << (good_ok ? "true" : "false")
+              << ",\"good_after_huge_ms\":" << good_after_huge_ms
+              << ",\"huge_rss_growth_mb\":" << huge_rss_growth
+              << ",\"flood_sent\":" << (flood_sent.empty() ? "0" : flood_sent)
+              << ",\"flood_good_queries\":" << during_flood.ms.size()
+              << ",\"flood_good_lost\":" << during_flood.lost
+              << ",\"flood_good_p99_ms\":" << Percentile(during_flood.ms, 0.99)
+              << ",\"flood_rss_growth_mb\":" << flood_rss_growth
+              << ",\"many_queries\":" << many.ms.size() << ",\"many_lost\":" << many.lost
+              << ",\"many_p99_ms\":" << Percentile(many.ms, 0.99)
+              << ",\"service_alive\":" << (alive ? "true" : "false") << "}\n";
+  } else {
+    std::cout << std::fixed << std::setprecision(1) << "huge request, " << huge_points
+              << " points (" << huge_points * 32 / 1e6 << " MB), written after " << written_after_s
+              << " s:\n"
+              << "  next good query " << (good_ok ? "answered" : "FAILED") << " in "
+              << good_after_huge_ms << " ms (goal: within 100 ms)\n"
+              << "  monocled RSS growth " << huge_rss_growth << " MB (goal <= 20)\n"
+              << "flood of unique-id requests, " << flood_seconds << " s, " << flood_sent
+              << " sent:\n"
+              << "  good client: " << during_flood.ms.size() << " answered, " << during_flood.lost
+              << " lost, p50 " << std::setprecision(2) << Percentile(during_flood.ms, 0.5)
+              << " ms, p99 " << Percentile(during_flood.ms, 0.99)
+              << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+              << std::setprecision(1) << "  monocled RSS growth " << flood_rss_growth
+              << " MB (goal <= 50)\n"
+              << clients << " clients x " << queries << " queries: " << many.ms.size()
+              << " answered, " << many.lost << " lost, p50 " << std::setprecision(2)
+              << Percentile(many.ms, 0.5) << " ms, p99 " << Percentile(many.ms, 0.99)
+              << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+              << "monocled " << (alive ? "still running" : "DIED") << "; log " << dir
+              << "/monocled.log\n";
+  }
+  return alive ? 0 : 1;
+}
