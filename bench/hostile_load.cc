@@ -28,6 +28,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_process.h"
 #include "client/protocol/convert.h"
 #include "client/protocol/dds.h"
 #include "client/protocol/wire.h"
@@ -40,32 +41,9 @@ using namespace std::chrono_literals;
 using Request = monocle_msgs_srv_dds__MeasurePoints_Request_;
 using Reply = monocle_msgs_srv_dds__MeasurePoints_Response_;
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
-}
-
-pid_t Spawn(const std::vector<std::string>& args, const std::string& log) {
-  std::cout.flush();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (freopen(log.c_str(), "w", stdout) == nullptr ||
-        freopen(log.c_str(), "a", stderr) == nullptr)
-      _exit(126);
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execvp(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-void Stop(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
-}
+using monocle::bench::Percentile;
+using monocle::bench::Spawn;
+using monocle::bench::Stop;
 
 // Resident memory of a process, MB.
 double RssMb(pid_t pid) {

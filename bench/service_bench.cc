@@ -31,37 +31,16 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_process.h"
 #include "monocle/client.h"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
-}
-
-pid_t Spawn(const std::vector<std::string>& args, const std::string& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (freopen(log.c_str(), "w", stdout) == nullptr ||
-        freopen(log.c_str(), "a", stderr) == nullptr)
-      _exit(126);
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execvp(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-void Stop(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
-}
+using monocle::bench::Percentile;
+using monocle::bench::Spawn;
+using monocle::bench::Stop;
 
 // ddsperf ping prints once a second "... 50% 55.6us 90% ... 99% 110.2us ..." (half round
 // trips); the median over the seconds of the run.

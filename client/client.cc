@@ -328,8 +328,8 @@ ClientResult<std::vector<MeasuredPoint>> Client::measure(const std::string& came
                                                          double pixel_sigma_px) {
   if (pixels.size() > wire::kMaxPointsPerRequest) {
     return ClientError{ClientError::Code::kInvalidRequest,
-                       "too many points in one request (" + std::to_string(pixels.size()) +
-                           " > " + std::to_string(wire::kMaxPointsPerRequest) + "): split it"};
+                       "too many points in one request (" + std::to_string(pixels.size()) + " > " +
+                           std::to_string(wire::kMaxPointsPerRequest) + "): split it"};
   }
   wire::PointRequestColumns columns;
   monocle_msgs_srv_dds__MeasurePoints_Request_ request;

@@ -243,9 +243,10 @@ int Locate(const std::vector<std::string>& argv) {
     std::cout << kLocateHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera",
-                                  "--count", "--domain", "--timeout", "--security", "--detect-every"},
-                                 {"--json", "--follow", "--track"}});
+  auto args =
+      Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera", "--count",
+                          "--domain", "--timeout", "--security", "--detect-every"},
+                         {"--json", "--follow", "--track"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->Has("--camera")) return LocateLive(*args);
   if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);

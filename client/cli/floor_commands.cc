@@ -259,10 +259,10 @@ int Calibrate(const std::vector<std::string>& argv) {
     std::cout << kCalibrateHelp;
     return kExitOk;
   }
-  auto args =
-      Args::Parse(argv, {{"--calibration", "--board", "--square", "--method", "--camera",
-                          "--domain", "--timeout", "--security", "--overlay", "--target-sigma", "--pixel-sigma"},
-                         {"--write", "--json"}});
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--board", "--square", "--method", "--camera", "--domain",
+              "--timeout", "--security", "--overlay", "--target-sigma", "--pixel-sigma"},
+             {"--write", "--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto spec = RequireBoard(*args);
   if (!spec) return Fail(spec.error(), kExitUsage);
@@ -382,7 +382,8 @@ int Measure(const std::vector<std::string>& argv) {
     return kExitOk;
   }
   auto args = Args::Parse(
-      argv, {{"--calibration", "--pixel-sigma", "--camera", "--domain", "--timeout", "--security"}, {"--json"}});
+      argv, {{"--calibration", "--pixel-sigma", "--camera", "--domain", "--timeout", "--security"},
+             {"--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   const auto pixel_sigma = args->GetDouble("--pixel-sigma", kDefaultPixelSigmaPx);
   if (!pixel_sigma || *pixel_sigma < 0)

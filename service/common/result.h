@@ -11,12 +11,12 @@
 namespace monocle {
 
 enum class ErrorCode {
-  kInvalidArgument,  // the user's input is malformed
-  kNotFound,         // a file, camera or board that is not there
-  kIo,               // reading or writing failed
-  kDegenerate,       // the geometry has no (unique) answer
-  kOutOfRange,       // a value outside what the model can handle
-  kPermissionDenied, // DDS Security permissions forbid it
+  kInvalidArgument,   // the user's input is malformed
+  kNotFound,          // a file, camera or board that is not there
+  kIo,                // reading or writing failed
+  kDegenerate,        // the geometry has no (unique) answer
+  kOutOfRange,        // a value outside what the model can handle
+  kPermissionDenied,  // DDS Security permissions forbid it
 };
 
 struct Error {

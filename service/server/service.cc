@@ -41,7 +41,8 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup) {
     s->calibrations_.Add(cam.id, *cal);
   }
 
-  auto participant = dds::CreateParticipant(s->setup_.domain, s->setup_.security_dir, wire::kMaxSampleBytes);
+  auto participant =
+      dds::CreateParticipant(s->setup_.domain, s->setup_.security_dir, wire::kMaxSampleBytes);
   if (!participant) return participant.error();
   s->participant_ = *participant;
   const auto& p = s->participant_;
