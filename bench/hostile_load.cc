@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -217,7 +218,6 @@ int main(int argc, char** argv) {
     }
     std::this_thread::sleep_for(1s);
   }
-  std::this_thread::sleep_for(3s);  // the simulators' start-up rendering is over
   if (!json) std::cout << "monocled ready (RSS " << RssMb(monocled) << " MB)\n";
 
   // RSS moves by tens of MB with the corner camera's processing: growth is measured from the
@@ -227,6 +227,13 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(1s);
     return w.Stop();
   };
+  // The simulators render their frames at start-up (longer on a loaded machine): wait until
+  // monocled's memory has settled (two quiet seconds' peaks within 5 MB), at most 60 s.
+  for (double last = quiet_peak(), i = 0; i < 60; ++i) {
+    const double now = quiet_peak();
+    if (std::abs(now - last) < 5) break;
+    last = now;
+  }
   // 1. The huge request.
   const double rss_before_huge = quiet_peak();
   RssWatch huge_watch(monocled);
