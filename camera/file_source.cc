@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
+#include "service/io/image_file.h"
+
 namespace monocle {
 
 Result<std::unique_ptr<FileSource>> FileSource::Open(const std::vector<std::string>& paths,
@@ -35,9 +37,10 @@ Result<Frame> FileSource::Next(std::chrono::milliseconds) {
   }
   const std::string& path = files_[next_++];
   Frame f;
-  f.grey = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  auto grey = ReadGreyImageFile(path);
   f.sequence = sequence_++;
-  if (f.grey.empty()) return MakeError(ErrorCode::kIo, "cannot read image '" + path + "'");
+  if (!grey) return grey.error();
+  f.grey = std::move(grey).value();
   f.camera_id = id_;
   f.capture_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                           std::chrono::system_clock::now().time_since_epoch())

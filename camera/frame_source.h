@@ -27,6 +27,14 @@ struct Frame {
   std::shared_ptr<void> keepalive;
 };
 
+// The one rule for camera errors. A configuration the camera cannot take (a GenICam feature
+// it does not have, a value outside its range, a pixel format it does not offer) will not
+// heal by waiting: it is permanent, reported once, and the camera's state is "failed". Every
+// other error (camera not found yet, lost, stalled, I/O) is retried with back-off.
+inline bool IsPermanentCameraError(const Error& error) {
+  return error.code == ErrorCode::kInvalidArgument || error.code == ErrorCode::kOutOfRange;
+}
+
 class FrameSource {
  public:
   virtual ~FrameSource() = default;

@@ -120,7 +120,8 @@ class Directory {
 std::string Clashes(const std::vector<Directory::Entry>& entries) {
   std::map<std::string, std::set<std::string>> services;
   for (const auto& e : entries) {
-    if (e.status.state != CameraState::kStopped)
+    // Stopped or failed (a newcomer that refused the namespace) serves nothing.
+    if (e.status.state == CameraState::kStreaming || e.status.state == CameraState::kReconnecting)
       services[e.status.ros_namespace].insert(e.status.service);
   }
   std::string out;
@@ -132,6 +133,14 @@ std::string Clashes(const std::vector<Directory::Entry>& entries) {
     out += ")";
   }
   return out;
+}
+
+// A name the caller gave, as errors show it: whole if short, else its start and its length
+// (a megabyte of name echoed back helps nobody).
+std::string Shown(const std::string& name) {
+  constexpr size_t kShown = 64;
+  if (name.size() <= kShown) return name;
+  return name.substr(0, kShown) + "... (" + std::to_string(name.size()) + " characters)";
 }
 
 }  // namespace
@@ -146,6 +155,8 @@ const char* ToString(CameraState state) {
       return "reconnecting";
     case CameraState::kStopped:
       return "stopped";
+    case CameraState::kFailed:
+      return "failed";
   }
   return "unknown";
 }
@@ -217,23 +228,27 @@ struct Client::Impl {
         std::string list;
         for (const auto& ns : namespaces) list += (list.empty() ? "" : ", ") + ns;
         return ClientError{ClientError::Code::kInvalidRequest,
-                           "camera '" + camera + "' is on several robots (" + list +
+                           "camera '" + Shown(camera) + "' is on several robots (" + list +
                                "): name it by its namespace"};
       }
       if (named.size() > 1) {
         std::vector<Directory::Entry> same;
         for (const auto& s : named) same.push_back({s, Clock::now()});
         if (const std::string clash = Clashes(same); !clash.empty()) {
-          return ClientError{
-              ClientError::Code::kInvalidRequest,
-              "camera '" + camera + "': " + clash + "; give each robot its own ros_namespace"};
+          return ClientError{ClientError::Code::kInvalidRequest,
+                             "camera '" + Shown(camera) + "': " + clash +
+                                 "; give each robot its own ros_namespace"};
         }
       }
       if (!named.empty()) {
-        // The newest status of the one service that is not stopped, if any.
-        std::sort(named.begin(), named.end(), [](const auto& a, const auto& b) {
-          return std::make_tuple(a.state != CameraState::kStopped, a.stamp_ns) >
-                 std::make_tuple(b.state != CameraState::kStopped, b.stamp_ns);
+        // The newest status of the one service that serves it (streaming or reconnecting),
+        // else of one that failed, else of one that stopped.
+        const auto rank = [](CameraState s) {
+          return s == CameraState::kStopped ? 0 : s == CameraState::kFailed ? 1 : 2;
+        };
+        std::sort(named.begin(), named.end(), [&](const auto& a, const auto& b) {
+          return std::make_tuple(rank(a.state), a.stamp_ns) >
+                 std::make_tuple(rank(b.state), b.stamp_ns);
         });
         const CameraStatus& s = named.front();
         if (!HasRole(s, role)) {
@@ -253,7 +268,7 @@ struct Client::Impl {
                      e.status.ros_namespace + ")";
         }
         return ClientError{ClientError::Code::kInvalidRequest,
-                           "unknown camera '" + camera + "' on DDS domain " +
+                           "unknown camera '" + Shown(camera) + "' on DDS domain " +
                                std::to_string(options.domain) + "; " + kind +
                                "s there: " + (known.empty() ? "none" : known)};
       }
@@ -266,7 +281,7 @@ struct Client::Impl {
   ClientResult<Out> Call(Channel<Service>& ch, const std::string& camera, const std::string& role,
                          const char* service_name, const dds_topic_descriptor_t* request_type,
                          const dds_topic_descriptor_t* reply_type, Request& request,
-                         Convert convert) {
+                         Convert convert, milliseconds resend_after) {
     const auto deadline = Clock::now() + options.timeout;
     auto status = Resolve(camera, role, deadline);
     if (!status) return status.error();
@@ -278,7 +293,7 @@ struct Client::Impl {
       if (!opened) {
         if (opened.error().code == ErrorCode::kPermissionDenied) {
           return ClientError{ClientError::Code::kNotPermitted,
-                             std::string(service_name) + " of camera '" + camera +
+                             std::string(service_name) + " of camera '" + Shown(camera) +
                                  "': this client's DDS Security permissions (" +
                                  options.security_dir + ") do not allow it" +
                                  (std::string(service_name) == wire::kCalibrateFloor
@@ -290,13 +305,13 @@ struct Client::Impl {
       }
       service = std::make_unique<Service>(std::move(opened).value());
     }
-    const std::string what = std::string(service_name) + " reply of camera '" + camera + "'";
+    const std::string what = std::string(service_name) + " reply of camera '" + Shown(camera) + "'";
     auto left = [&] {
       return std::max(milliseconds(1),
                       std::chrono::duration_cast<milliseconds>(deadline - Clock::now()));
     };
     if (!service->WaitForService(left())) return NoService(options.domain, options.timeout, what);
-    auto reply = service->template Call<ClientResult<Out>>(request, left(), convert);
+    auto reply = service->template Call<ClientResult<Out>>(request, left(), convert, resend_after);
     if (!reply) return DdsFailure(reply.error());
     if (!*reply) return NoService(options.domain, options.timeout, what);
     return std::move(**reply);
@@ -345,7 +360,11 @@ ClientResult<std::vector<MeasuredPoint>> Client::measure(const std::string& came
         auto points = wire::FromSample(r);
         if (!points) return ClientError{ClientError::Code::kFailed, points.error().message};
         return std::move(points).value();
-      });
+      },
+      // Sent again without a reply: a few points are answered in well under a millisecond
+      // (bench/service_bench), so after 50 ms one of the two messages was lost; a large batch
+      // takes tens of milliseconds to measure and carry, so it waits a second first.
+      pixels.size() <= 1000 ? milliseconds(50) : milliseconds(1000));
 }
 
 ClientResult<Pose> Client::pose(const std::string& camera, PoseWhich which) {
@@ -359,7 +378,8 @@ ClientResult<Pose> Client::pose(const std::string& camera, PoseWhich which) {
         if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
           return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
         return wire::FromSample(r.pose);
-      });
+      },
+      milliseconds(250));  // the next frame's pose can take a frame period and its processing
 }
 
 ClientResult<FloorCalibrationResult> Client::calibrate_floor(const std::string& camera,
@@ -378,7 +398,8 @@ ClientResult<FloorCalibrationResult> Client::calibrate_floor(const std::string& 
         if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
           return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
         return wire::FromSample(r);
-      });
+      },
+      milliseconds(0));  // never sent twice: it rewrites the calibration file
 }
 
 ClientResult<std::vector<CameraStatus>> Client::status() {

@@ -51,9 +51,24 @@ int Usage(const std::string& why) {
   return 2;
 }
 
+// A stop signal arrived (it is blocked, so it waits as pending).
+bool StopRequested() {
+  sigset_t pending;
+  sigpending(&pending);
+  return sigismember(&pending, SIGINT) == 1 || sigismember(&pending, SIGTERM) == 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Stop signals are waited for, never delivered: blocked before anything else (every thread
+  // started later inherits the mask), so one that comes while the configuration is read or
+  // the service starts stays pending and is obeyed at the next step (StopRequested).
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   // Every frame's working images are a megabyte or more: keep them in the heap for reuse
   // instead of mmap'ing and unmapping them per frame (page faults on every frame).
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
@@ -114,14 +129,11 @@ int main(int argc, char** argv) {
   if (!setup->security_dir.empty() && setup->domain > 230)
     return Usage("a secured domain must be 0..230 (DDS Security governance)");
 
-  // Stop signals are waited for here; every thread started below inherits the mask.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
-
-  auto service = monocle::Service::Start(*setup);
+  auto service = monocle::Service::Start(*setup, StopRequested);
+  if (!service && service.error().code == monocle::ErrorCode::kCancelled) {
+    std::cerr << "monocled: stopped during start-up\n";
+    return 0;
+  }
   if (!service) {
     std::cerr << "monocled: error: " << service.error() << "\n";
     return 1;

@@ -60,7 +60,9 @@ Status CheckRange(const std::string& what, double value, double lo, double hi, c
 Status SetFeature(ArvCamera* camera, const std::string& name, const std::string& value) {
   ArvGcNode* node = arv_device_get_feature(arv_camera_get_device(camera), name.c_str());
   if (node == nullptr) {
-    return Fail(ErrorCode::kNotFound, "unknown GenICam feature '" + name + "' on this camera");
+    // A configuration error (IsPermanentCameraError), not a camera still to be found.
+    return Fail(ErrorCode::kInvalidArgument,
+                "unknown GenICam feature '" + name + "' on this camera");
   }
   GErrorSlot err;
   if (ARV_IS_GC_FLOAT(node) || ARV_IS_GC_INTEGER(node)) {

@@ -16,6 +16,7 @@ void ReconnectingSource::SetState(CameraState s, const std::string& reason) {
 }
 
 Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
+  if (failed_) return *failed_;  // permanent: reported once, never retried
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (std::chrono::steady_clock::now() < deadline) {
     if (!source_) {
@@ -27,15 +28,17 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
       }
       auto opened = AravisSource::Open(options_);
       if (!opened) {
-        // Back-off doubles up to 2 s: quick to come back, quiet while the camera is away.
+        if (IsPermanentCameraError(opened.error())) {
+          failed_ = opened.error();
+          SetState(CameraState::kFailed, opened.error().message);
+          return opened.error();
+        }
+        // Back-off doubles up to 0.5 s: a camera that answers again streams within a second
+        // however long it was away (issue 14), for one discovery packet per attempt.
         next_attempt_ = std::chrono::steady_clock::now() + backoff_;
-        backoff_ = std::min(backoff_ * 2, std::chrono::milliseconds(2000));
+        backoff_ = std::min(backoff_ * 2, kMaxBackoff);
         // Say why, so a status display can tell "camera not found" from "lost".
         SetState(CameraState::kReconnecting, opened.error().message);
-        if (opened.error().code == ErrorCode::kOutOfRange ||
-            opened.error().code == ErrorCode::kInvalidArgument) {
-          return opened.error();  // a configuration error will not heal by waiting
-        }
         continue;
       }
       source_ = std::move(opened).value();

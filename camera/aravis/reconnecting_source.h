@@ -6,6 +6,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "camera/aravis/aravis_source.h"
@@ -21,9 +22,12 @@ class ReconnectingSource : public FrameSource {
                      std::chrono::milliseconds stall_timeout = std::chrono::milliseconds(1000));
 
   const std::string& id() const override { return options_.device; }
-  // A frame, or the error of this attempt (loss, waiting for the camera); keep calling.
+  // A frame, or the error of this attempt (loss, waiting for the camera); keep calling. A
+  // permanent error (IsPermanentCameraError) puts the source in kFailed for good: every
+  // later call returns that error at once.
   Result<Frame> Next(std::chrono::milliseconds timeout) override;
   CameraState state() const { return state_; }
+  static constexpr std::chrono::milliseconds kMaxBackoff{500};
 
  private:
   void SetState(CameraState s, const std::string& reason);
@@ -32,6 +36,7 @@ class ReconnectingSource : public FrameSource {
   StateCallback on_state_;
   std::chrono::milliseconds stall_timeout_;
   std::unique_ptr<AravisSource> source_;
+  std::optional<Error> failed_;
   CameraState state_ = CameraState::kReconnecting;
   std::chrono::milliseconds backoff_{100};
   std::chrono::steady_clock::time_point next_attempt_{};

@@ -9,12 +9,14 @@
 
 #include "camera/render/corner_renderer.h"
 #include "camera/render/floor_renderer.h"
+#include "service/io/bounded_file.h"
 
 namespace monocle {
 
 Result<std::vector<CornerPose>> ReadTrajectoryFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return MakeError(ErrorCode::kNotFound, "cannot read trajectory file '" + path + "'");
+  auto text = ReadBoundedFile(path, "trajectory file", kMaxTextFileBytes);
+  if (!text) return text.error();
+  std::istringstream in(*text);
   std::vector<CornerPose> out;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {

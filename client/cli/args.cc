@@ -111,4 +111,26 @@ Result<BoardSpec> RequireBoard(const Args& args) {
   return ParseBoardSize(*board_text, *square);
 }
 
+Result<PointArgument> ParsePointArgument(const std::string& text) {
+  const auto at = text.find('@');
+  auto parse_pixel = [](const std::string& part) -> std::optional<std::pair<double, double>> {
+    const auto nums = ParseNumberList(part);
+    if (!nums || nums->size() != 2) return std::nullopt;
+    return std::make_pair((*nums)[0], (*nums)[1]);
+  };
+  const auto first = parse_pixel(text.substr(0, at));
+  if (!first) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,800)");
+  }
+  if (at == std::string::npos) return PointArgument{first->first, first->second, std::nullopt};
+  const auto second = parse_pixel(text.substr(at + 1));
+  if (!second) {
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,300@640.5,800)");
+  }
+  return PointArgument{first->first, first->second, second};
+}
+
 }  // namespace monocle::cli

@@ -45,4 +45,12 @@ std::optional<double> ParseDouble(const std::string& text);
 // Splits "a,b,c" into numbers; empty if any part is not a finite number.
 std::optional<std::vector<double>> ParseNumberList(const std::string& text);
 
+// A POINT of `monocle floor measure`: "u,v" (a floor pixel) or "u,v@fu,fv" (a pixel standing
+// vertically above the floor pixel fu,fv), pixels.
+struct PointArgument {
+  double u = 0, v = 0;
+  std::optional<std::pair<double, double>> floor_px;  // for a pixel above the floor
+};
+Result<PointArgument> ParsePointArgument(const std::string& text);
+
 }  // namespace monocle::cli

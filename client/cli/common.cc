@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "client/cli/commands.h"
+#include "service/io/image_file.h"
 
 namespace monocle::cli {
 
@@ -15,20 +16,7 @@ int Fail(const std::string& message, int status) {
 
 int Fail(const Error& error, int status) { return Fail(error.message, status); }
 
-Result<cv::Mat> ReadGreyImage(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    return MakeError(ErrorCode::kNotFound, "cannot read image '" + path + "': no such file");
-  }
-  cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (image.empty()) {
-    return MakeError(ErrorCode::kIo,
-                     "cannot read image '" + path +
-                         "': not an image format OpenCV reads (PNG, PGM, JPEG, TIFF, ...)");
-  }
-  if (image.depth() != CV_8U) image.convertTo(image, CV_8U, 1.0 / 256);
-  return image;
-}
+Result<cv::Mat> ReadGreyImage(const std::string& path) { return ReadGreyImageFile(path); }
 
 Status WriteImage(const std::string& path, const cv::Mat& image) {
   try {

@@ -65,8 +65,9 @@ Live, from the running service (monocled) over DDS, instead of IMAGE and --calib
   monocle floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
   --camera ID              a floor camera of the service: it calibrates from the camera's
                            next frame, writes its calibration file atomically and publishes
-                           the new calibration (topic /monocle/calibrations)
-  --domain D               DDS domain id (default 0); --timeout S (default 10)
+                           the new calibration (topic /monocle/calibrations); a camera
+                           that has just started is waited for up to 20 s
+  --domain D               DDS domain id (default 0); --timeout S (default 30)
   --security DIR           this client's identity (operator role) of a secured service's
                            keystore (`monocle security init`; default $MONOCLE_SECURITY)
 
@@ -96,29 +97,6 @@ Live, from the running service (monocled) over DDS, instead of --calibration:
                           (`monocle security init`; default $MONOCLE_SECURITY)
 Exit status 1 when any point could not be measured.
 )";
-
-Result<std::pair<Eigen::Vector2d, std::optional<Eigen::Vector2d>>> ParsePoint(
-    const std::string& text) {
-  const auto at = text.find('@');
-  auto parse_pixel = [&](const std::string& part) -> std::optional<Eigen::Vector2d> {
-    const auto nums = ParseNumberList(part);
-    if (!nums || nums->size() != 2) return std::nullopt;
-    return Eigen::Vector2d((*nums)[0], (*nums)[1]);
-  };
-  const auto first = parse_pixel(text.substr(0, at));
-  if (!first) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,800)");
-  }
-  if (at == std::string::npos) return std::make_pair(*first, std::optional<Eigen::Vector2d>());
-  const auto second = parse_pixel(text.substr(at + 1));
-  if (!second) {
-    return MakeError(
-        ErrorCode::kInvalidArgument,
-        "POINT '" + text + "' is not u,v or u,v@fu,fv (pixels, e.g. 640.5,300@640.5,800)");
-  }
-  return std::make_pair(*second, std::optional<Eigen::Vector2d>(*first));
-}
 
 void PrintFloorCalibration(const proto::FloorCalibrationOutput& out, bool json) {
   if (json) {
@@ -229,7 +207,8 @@ int CalibrateLive(const Args& args, const BoardSpec& spec) {
   if (!args.positionals().empty())
     return Fail("with --camera no IMAGE is given: the camera's next frame is used", kExitUsage);
   int status = kExitOk;
-  auto client = OpenClient(args, &status);
+  // A camera that has just started may take the service up to 20 s to deliver a first frame.
+  auto client = OpenClient(args, &status, 30);
   if (!client) return status;
   const std::string camera = *args.Get("--camera");
   const auto r = client->calibrate_floor(camera, spec.cols, spec.rows, spec.square_m);
@@ -393,11 +372,11 @@ int Measure(const std::vector<std::string>& argv) {
   // Malformed points are a command-line error: reject them all before measuring any.
   std::vector<PixelPair> points;
   for (const auto& text : args->positionals()) {
-    auto p = ParsePoint(text);
+    const auto p = ParsePointArgument(text);
     if (!p) return Fail(p.error(), kExitUsage);
-    const auto& [floor_px, top_px] = *p;
-    points.push_back(top_px ? PixelPair{top_px->x(), top_px->y(), true, floor_px.x(), floor_px.y()}
-                            : PixelPair{floor_px.x(), floor_px.y(), false, 0, 0});
+    points.push_back(p->floor_px
+                         ? PixelPair{p->u, p->v, true, p->floor_px->first, p->floor_px->second}
+                         : PixelPair{p->u, p->v, false, 0, 0});
   }
   const bool json = args->Has("--json");
   if (const auto camera = args->Get("--camera")) {

@@ -7,9 +7,9 @@
 
 namespace monocle::cli {
 
-std::optional<Client> OpenClient(const Args& args, int* exit_status) {
+std::optional<Client> OpenClient(const Args& args, int* exit_status, double default_timeout_s) {
   const auto domain = args.GetDouble("--domain", 0);
-  const auto timeout_s = args.GetDouble("--timeout", 10);
+  const auto timeout_s = args.GetDouble("--timeout", default_timeout_s);
   if (!domain || *domain < 0 || *domain > 232 || *domain != std::floor(*domain)) {
     *exit_status = Fail("--domain must be a DDS domain id, 0..232", kExitUsage);
     return std::nullopt;

@@ -9,9 +9,9 @@
 
 namespace monocle::cli {
 
-// --domain D (default 0) and --timeout S (seconds, default 10). On a bad value prints the
-// error and sets *exit_status.
-std::optional<Client> OpenClient(const Args& args, int* exit_status);
+// --domain D (default 0) and --timeout S (seconds, default `default_timeout_s`). On a bad value
+// prints the error and sets *exit_status.
+std::optional<Client> OpenClient(const Args& args, int* exit_status, double default_timeout_s = 10);
 
 // Prints the client's error; exit status 1.
 int Fail(const ClientError& error);

@@ -130,6 +130,9 @@ CameraStatus FromSample(const monocle_msgs_msg_dds__CameraStatus_& s) {
     case monocle_msgs_msg_dds__CAMERA_STOPPED:
       c.state = CameraState::kStopped;
       break;
+    case monocle_msgs_msg_dds__CAMERA_FAILED:
+      c.state = CameraState::kFailed;
+      break;
   }
   c.fps = s.fps;
   c.frames = s.frames;

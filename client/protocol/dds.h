@@ -19,6 +19,10 @@ namespace monocle::dds {
 struct EndpointQos {
   int history_depth = 1;         // samples kept per instance (keep-last)
   bool transient_local = false;  // late-matching readers still receive kept samples
+  // The reader keeps only samples `accept(sample, accept_arg)` says yes to, decided on
+  // arrival, before they take a place in its history (a Cyclone topic filter).
+  bool (*accept)(const void* sample, void* arg) = nullptr;
+  void* accept_arg = nullptr;
 };
 
 Error DdsError(const std::string& what, dds_return_t rc);
@@ -106,6 +110,15 @@ class Endpoint {
       }
     }
     if (reader) {
+      // The topic entity is this endpoint's own (dds_create_topic makes a new one each call),
+      // so its filter applies to this reader only.
+      if (eq.accept != nullptr) {
+        if (const dds_return_t rc = dds_set_topic_filter_and_arg(topic, eq.accept, eq.accept_arg);
+            rc < 0) {
+          dds_delete_qos(qos);
+          return DdsError(std::string("cannot filter topic ") + topic_name, rc);
+        }
+      }
       ep.reader_ = Entity(dds_create_reader(ep.participant_->get(), topic, qos, nullptr));
       if (ep.reader_.get() < 0) {
         dds_delete_qos(qos);

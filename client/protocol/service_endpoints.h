@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -40,7 +41,7 @@ class ServiceServer {
     if (!requests) return requests.error();
     auto replies =
         Endpoint<Reply>::Open(participant, reply_type, wire::ReplyTopic(ns, service).c_str(), true,
-                              false, wire::kRosDefaultQos);
+                              false, wire::kReplyWriterQos);
     if (!replies) return replies.error();
     return ServiceServer(std::move(requests).value(), std::move(replies).value());
   }
@@ -133,21 +134,27 @@ class ServiceClient {
                                     const dds_topic_descriptor_t* request_type,
                                     const dds_topic_descriptor_t* reply_type, const std::string& ns,
                                     const std::string& service) {
-    // The reply reader first, so it exists before any request can be answered.
-    auto replies =
-        Endpoint<Reply>::Open(participant, reply_type, wire::ReplyTopic(ns, service).c_str(), false,
-                              true, wire::kRosDefaultQos);
+    // Every client of a service reads every reply on its reply topic (the ROS 2 wire): with
+    // many clients, others' replies would push ours out of a keep-last history before we
+    // take it. The reader keeps only replies to our client id (known once the request writer
+    // exists; until then, none: nothing was asked). The reply reader is made first, so it
+    // exists before any request can be answered.
+    auto guid = std::make_unique<std::atomic<uint64_t>>(0);
+    dds::EndpointQos reply_qos = wire::kRosDefaultQos;
+    reply_qos.accept = &ServiceClient::IsOurs;
+    reply_qos.accept_arg = guid.get();
+    auto replies = Endpoint<Reply>::Open(
+        participant, reply_type, wire::ReplyTopic(ns, service).c_str(), false, true, reply_qos);
     if (!replies) return replies.error();
     auto requests =
         Endpoint<Request>::Open(participant, request_type, wire::RequestTopic(ns, service).c_str(),
                                 true, false, wire::kRosDefaultQos);
     if (!requests) return requests.error();
-    ServiceClient c(std::move(requests).value(), std::move(replies).value());
     dds_instance_handle_t handle = 0;
-    if (const dds_return_t rc = dds_get_instance_handle(c.requests_.writer(), &handle); rc < 0)
+    if (const dds_return_t rc = dds_get_instance_handle(requests->writer(), &handle); rc < 0)
       return DdsError("cannot read the request writer's handle", rc);
-    c.guid_ = handle;
-    return c;
+    guid->store(handle);
+    return ServiceClient(std::move(requests).value(), std::move(replies).value(), std::move(guid));
   }
 
   // Both directions matched: a request now reaches the server and its reply reaches us.
@@ -160,29 +167,44 @@ class ServiceClient {
     return true;
   }
 
-  uint64_t guid() const { return guid_; }
+  uint64_t guid() const { return guid_->load(); }
 
   // Sends `request` (its header is set here) and waits up to `timeout` for its reply, which
   // `convert(reply)` turns into the result; nullopt if none came. Replies to other clients,
   // and late replies to our earlier requests, are dropped.
+  //
+  // With `resend_after` > 0 (idempotent services only: answering twice must do no harm), a
+  // request without a reply by then is sent again (same sequence number), then at doubling
+  // intervals: a server that has not yet discovered our request writer drops what it sends
+  // (DDS delivers nothing from an unknown writer, and a volatile reader that matches later
+  // does not get earlier samples), and a reply can be lost to a slow reader.
   template <typename Out, typename Convert>
   Result<std::optional<Out>> Call(Request& request, std::chrono::milliseconds timeout,
-                                  Convert convert) {
-    request.guid = guid_;
+                                  Convert convert, std::chrono::milliseconds resend_after) {
+    const bool resend = resend_after.count() > 0;
+    request.guid = guid();
     request.seq = ++seq_;
     if (auto w = requests_.Write(request); !w) return w.error();
     const auto deadline = std::chrono::steady_clock::now() + timeout;
+    auto resend_at = std::chrono::steady_clock::now() + resend_after;
     for (;;) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
+      const auto now = std::chrono::steady_clock::now();
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now);
       if (left.count() <= 0) return std::optional<Out>();
-      auto taken =
-          replies_.template Take<std::optional<Out>>(std::min(left, std::chrono::milliseconds(100)),
-                                                     [&](const Reply& r) -> std::optional<Out> {
-                                                       if (r.guid != guid_ || r.seq != request.seq)
-                                                         return std::nullopt;
-                                                       return convert(r);
-                                                     });
+      if (resend && now >= resend_at) {
+        if (auto w = requests_.Write(request); !w) return w.error();
+        resend_after *= 2;
+        resend_at = now + resend_after;
+      }
+      const auto until_resend =
+          std::chrono::duration_cast<std::chrono::milliseconds>(resend_at - now) +
+          std::chrono::milliseconds(1);
+      auto taken = replies_.template Take<std::optional<Out>>(
+          std::min({left, until_resend, std::chrono::milliseconds(100)}),
+          [&](const Reply& r) -> std::optional<Out> {
+            if (r.guid != guid() || r.seq != request.seq) return std::nullopt;
+            return convert(r);
+          });
       if (!taken) return taken.error();
       for (auto& reply : *taken) {
         if (reply) return std::optional<Out>(std::move(*reply));
@@ -191,12 +213,20 @@ class ServiceClient {
   }
 
  private:
-  ServiceClient(Endpoint<Request> requests, Endpoint<Reply> replies)
-      : requests_(std::move(requests)), replies_(std::move(replies)) {}
+  ServiceClient(Endpoint<Request> requests, Endpoint<Reply> replies,
+                std::unique_ptr<std::atomic<uint64_t>> guid)
+      : guid_(std::move(guid)), requests_(std::move(requests)), replies_(std::move(replies)) {}
 
+  // The reply reader's filter (Cyclone's receive thread) reads our client id.
+  static bool IsOurs(const void* reply, void* guid) {
+    return static_cast<const Reply*>(reply)->guid ==
+           static_cast<const std::atomic<uint64_t>*>(guid)->load(std::memory_order_relaxed);
+  }
+
+  // First: the reply reader's filter uses it until the reader is gone.
+  std::unique_ptr<std::atomic<uint64_t>> guid_;
   Endpoint<Request> requests_;
   Endpoint<Reply> replies_;
-  uint64_t guid_ = 0;
   int64_t seq_ = 0;
 };
 

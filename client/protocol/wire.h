@@ -40,6 +40,10 @@ inline constexpr dds::EndpointQos kRosDefaultQos{10, false};
 // Requests are taken by the service's handler at once; a deeper reader history keeps a burst
 // from many clients (history is not matched between writer and reader, so ROS still matches).
 inline constexpr dds::EndpointQos kRequestReaderQos{64, false};
+// Every reply goes to every client's reply reader: with ROS's depth of 10, 32 clients asking
+// at once made the writer drop replies a slow reader had not yet acknowledged
+// (bench/hostile_load). Kept in the writer only until acknowledged.
+inline constexpr dds::EndpointQos kReplyWriterQos{10, false};
 // The largest sample the service sends or takes: a 100 000-point reply is 5.6 MB, a request
 // 3.2 MB. Larger ones are dropped by Cyclone as their first fragment arrives, unanswered and
 // before any memory is spent on them (a 50 M-point request is 1.6 GB).

@@ -221,7 +221,7 @@ TEST(MonocleMsgsInStep, PackageDescribesTheIdl) {
   EXPECT_EQ(types.structs.size(), 10u);
   EXPECT_EQ(types.structs.at("msg/CornerPose_").size(), 18u);
   EXPECT_EQ(types.structs.at("srv/MeasurePoints_Response_").size(), 12u);
-  EXPECT_EQ(types.enums.at("CameraState").size(), 3u);
+  EXPECT_EQ(types.enums.at("CameraState").size(), 4u);
 }
 
 TEST(MonocleMsgsInStep, CatchesAFieldOutOfStep) {
@@ -247,11 +247,11 @@ TEST(MonocleMsgsInStep, CatchesAFieldOutOfStep) {
 
   // A new enumerator without its ROS constant.
   idl = ReadFile(kRosDir / "monocle_msgs.idl");
-  const std::string states = "CAMERA_STOPPED }";
-  idl.replace(idl.find(states), states.size(), "CAMERA_STOPPED, CAMERA_UNPLUGGED }");
+  const std::string states = "CAMERA_FAILED }";
+  idl.replace(idl.find(states), states.size(), "CAMERA_FAILED, CAMERA_UNPLUGGED }");
   diffs = CheckPackage(idl, kRosDir / "monocle_msgs");
   ASSERT_EQ(diffs.size(), 1u);
-  EXPECT_NE(diffs[0].find("CAMERA_UNPLUGGED=3"), std::string::npos) << diffs[0];
+  EXPECT_NE(diffs[0].find("CAMERA_UNPLUGGED=4"), std::string::npos) << diffs[0];
 }
 
 TEST(MonocleMsgsInStep, ServiceSamplesBeginWithTheRequestHeader) {

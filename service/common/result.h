@@ -17,6 +17,7 @@ enum class ErrorCode {
   kDegenerate,        // the geometry has no (unique) answer
   kOutOfRange,        // a value outside what the model can handle
   kPermissionDenied,  // DDS Security permissions forbid it
+  kCancelled,         // stopped on request (a signal) before it finished
 };
 
 struct Error {

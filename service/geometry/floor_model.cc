@@ -1,5 +1,6 @@
 #include "service/geometry/floor_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -241,6 +242,18 @@ Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const F
   FloorMeasurement m;
   m.p_robot_m << sol->x_w, y_w, z_w;
   m.covariance = Propagate<3, 4>(noise, j_pose, j_intrinsics, j_pixel);
+  // A top below its foot is not a point above the floor: the two pixels are swapped, or the
+  // foot is not under the top. Within the noise (3 sigma) a height just under zero is a
+  // point on the floor and stands.
+  const double sigma_z = std::sqrt(std::max(0.0, m.covariance(2, 2)));
+  if (z_w < -kVerticalPointSigmas * sigma_z) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "pixel " << PixelText(top_px) << " is below its foot " << PixelText(floor_px)
+       << " (height " << z_w << " m, 1 sigma " << sigma_z
+       << " m): give the point above the floor first and its foot on the floor after @";
+    return MakeError(ErrorCode::kOutOfRange, os.str());
+  }
   return m;
 }
 

@@ -67,6 +67,39 @@ TEST(FloorModelTest, ForwardThenMeasureBoxPointsRoundTrips) {
   EXPECT_GT(checked, 250);
 }
 
+// Issue 14: a paired point whose top is below its foot got a negative height without a word.
+// Swapped pixels are refused, saying which; a point on the floor (top = foot, height 0 within
+// the noise) still stands.
+TEST(FloorModelTest, ATopBelowItsFootIsRefused) {
+  const CameraIntrinsics k = PaperCamera();
+  const FloorPose pose{1.05, 2.0595, 0.0698, 0.0262};
+  MeasurementNoise noise;
+  noise.pixel_sigma_px = 0.5;
+  const Eigen::Vector3d foot(0.1, 2.0, 0), top(0.1, 2.0, 0.4);
+  const auto foot_px = ProjectRobotPoint(k, pose, foot);
+  const auto top_px = ProjectRobotPoint(k, pose, top);
+  ASSERT_TRUE(foot_px && top_px);
+  const auto right = MeasureVerticalPoint(k, pose, noise, *foot_px, *top_px);
+  ASSERT_TRUE(right.ok()) << right.error();
+  EXPECT_NEAR(right->p_robot_m.z(), 0.4, 1e-9);
+
+  const auto swapped = MeasureVerticalPoint(k, pose, noise, *top_px, *foot_px);
+  ASSERT_FALSE(swapped.ok());
+  EXPECT_EQ(swapped.error().code, ErrorCode::kOutOfRange);
+  EXPECT_NE(swapped.error().message.find("is below its foot"), std::string::npos)
+      << swapped.error();
+  EXPECT_NE(swapped.error().message.find("first"), std::string::npos);
+
+  // Height zero, and a hair under it within the noise: measured, not refused.
+  const auto on_floor = MeasureVerticalPoint(k, pose, noise, *foot_px, *foot_px);
+  ASSERT_TRUE(on_floor.ok()) << on_floor.error();
+  EXPECT_NEAR(on_floor->p_robot_m.z(), 0, 1e-9);
+  const auto hair =
+      MeasureVerticalPoint(k, pose, noise, *foot_px, *foot_px + Eigen::Vector2d(0, 0.3));
+  ASSERT_TRUE(hair.ok()) << hair.error();
+  EXPECT_LT(hair->p_robot_m.z(), 0);
+}
+
 TEST(FloorModelTest, PaperEquationFiveAsPrintedAgreesWithoutRoll) {
   // Eq. (5) typed in literally, independent of the implementation's rearrangement.
   const FloorPose pose{1.013, 1.8354, -0.0119, 0};

@@ -1,5 +1,6 @@
 #include "service/io/calibration_file.h"
 
+#include "service/io/bounded_file.h"
 #include "service/io/text_proto.h"
 
 #include <fcntl.h>
@@ -153,14 +154,9 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
 }
 
 Result<CameraCalibration> LoadCalibrationFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    return MakeError(ErrorCode::kNotFound,
-                     "cannot read calibration file '" + path + "': " + std::strerror(errno));
-  }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return ParseCalibration(buffer.str(), path);
+  auto text = ReadBoundedFile(path, "calibration file", kMaxTextFileBytes);
+  if (!text) return text.error();
+  return ParseCalibration(*text, path);
 }
 
 std::string FormatCalibration(const CameraCalibration& c) {

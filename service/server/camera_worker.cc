@@ -79,17 +79,13 @@ void CameraWorker::SetState(CameraState state, const std::string& error) {
       status_.last_error_ns = UnixNowNs();
     }
   }
+  frame_ready_.notify_all();  // a NextFrame waiting on a camera that failed answers now
   if (on_state_change_) on_state_change_();
 }
 
 void CameraWorker::Acquire() {
   ReconnectingSource source(
-      setup_.options,
-      [this](CameraState s, const std::string& reason) {
-        SetState(
-            s == CameraState::kStreaming ? CameraState::kStreaming : CameraState::kReconnecting,
-            reason);
-      },
+      setup_.options, [this](CameraState s, const std::string& reason) { SetState(s, reason); },
       setup_.stall_timeout);
   while (true) {
     {
@@ -98,12 +94,8 @@ void CameraWorker::Acquire() {
     }
     auto frame = source.Next(std::chrono::milliseconds(200));
     if (!frame) {
-      // A configuration error (unknown feature, value out of range) will not heal by waiting.
-      if (frame.error().code == ErrorCode::kInvalidArgument ||
-          frame.error().code == ErrorCode::kOutOfRange) {
-        SetState(CameraState::kStopped, frame.error().message);
-        return;
-      }
+      // The source has reported it (state kFailed, once): this thread's work is done.
+      if (IsPermanentCameraError(frame.error())) return;
       continue;
     }
     const auto received = std::chrono::steady_clock::now();
@@ -201,15 +193,22 @@ Result<Frame> CameraWorker::NextFrame(std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
   ++grab_waiters_;
   const uint64_t before = grab_count_;
-  frame_ready_.wait_for(lock, timeout, [&] { return stop_ || grab_count_ > before; });
+  // A camera that has not delivered its first frame yet (a simulator still rendering, a GigE
+  // camera still booting after the service started) gets longer; a failed one answers at once.
+  const bool first = status_.frames == 0;
+  const auto wait = first ? std::max(timeout, kFirstFrameWait) : timeout;
+  frame_ready_.wait_for(lock, wait, [&] {
+    return stop_ || grab_count_ > before || status_.state == CameraState::kFailed;
+  });
   --grab_waiters_;
   if (grab_count_ > before && grabbed_) {
     Frame copy = *grabbed_;
     if (grab_waiters_ == 0) grabbed_.reset();
     return copy;
   }
-  std::string why =
-      "no frame from camera '" + setup_.id + "' within " + std::to_string(timeout.count()) + " ms";
+  std::string why = "no frame from camera '" + setup_.id + "' within " +
+                    std::to_string(wait.count()) + " ms" +
+                    (first ? " since the service started" : "");
   if (!status_.last_error.empty()) why += " (last error: " + status_.last_error + ")";
   return MakeError(ErrorCode::kNotFound, why);
 }

@@ -63,8 +63,10 @@ class CameraWorker {
   const CameraSetup& setup() const { return setup_; }
   // The health figures; `new_period` starts a new averaging period for fps and latency.
   WorkerStatus Snapshot(bool new_period);
-  // A copy of the first frame received after this call.
+  // A copy of the first frame received after this call, waiting at most `timeout` (or
+  // kFirstFrameWait while the camera has not delivered any frame yet).
   Result<Frame> NextFrame(std::chrono::milliseconds timeout);
+  static constexpr std::chrono::milliseconds kFirstFrameWait{20000};
   CameraCalibration calibration() const;
   void SetCalibration(const CameraCalibration& calibration);
 

@@ -1,9 +1,20 @@
 #include "service/server/duplicate_watch.h"
 
+#include <thread>
+
 #include "client/protocol/convert.h"
 #include "client/protocol/wire.h"
 
 namespace monocle {
+namespace {
+
+// A service that serves (or tries to serve) a camera; a stopped one has left, a failed one
+// has refused or given up.
+bool Serving(CameraState state) {
+  return state == CameraState::kStreaming || state == CameraState::kReconnecting;
+}
+
+}  // namespace
 
 Result<std::unique_ptr<DuplicateWatch>> DuplicateWatch::Open(
     const std::shared_ptr<dds::Entity>& participant, std::string own_service_id,
@@ -20,8 +31,32 @@ Result<std::unique_ptr<DuplicateWatch>> DuplicateWatch::Open(
   return w;
 }
 
-std::vector<std::string> DuplicateWatch::NewClashes() {
-  std::vector<std::string> out;
+std::map<std::string, std::string> DuplicateWatch::WaitForServed(
+    std::chrono::milliseconds wait, const std::function<bool()>& stop_requested) {
+  // The newest state of each (namespace, service) seen.
+  std::map<std::pair<std::string, std::string>, CameraState> latest;
+  const auto deadline = std::chrono::steady_clock::now() + wait;
+  while (std::chrono::steady_clock::now() < deadline && !stop_requested()) {
+    auto taken = statuses_->Take<CameraStatus>(
+        std::chrono::milliseconds(50),
+        [](const monocle_msgs_msg_dds__CameraStatus_& s) { return wire::FromSample(s); });
+    if (!taken) continue;
+    for (const auto& s : *taken) {
+      if (s.service != own_ && namespaces_.count(s.ros_namespace) > 0)
+        latest[{s.ros_namespace, s.service}] = s.state;
+    }
+  }
+  std::map<std::string, std::string> served;
+  for (const auto& [key, state] : latest) {
+    if (!Serving(state)) continue;
+    served[key.first] = key.second;
+    reported_.insert(key);  // the refusal says it; NewClashes need not say it again
+  }
+  return served;
+}
+
+std::vector<DuplicateWatch::Clash> DuplicateWatch::NewClashes() {
+  std::vector<Clash> out;
   for (;;) {
     auto taken = statuses_->Take<CameraStatus>(
         std::chrono::milliseconds(0),
@@ -32,10 +67,19 @@ std::vector<std::string> DuplicateWatch::NewClashes() {
           s.state == CameraState::kStopped)
         continue;
       if (!reported_.insert({s.ros_namespace, s.service}).second) continue;
-      out.push_back("camera namespace " + s.ros_namespace + " (camera '" + s.camera_id +
-                    "') is also served by monocled " + s.service +
-                    " on this DDS domain: give each robot its own ros_namespace "
-                    "(see README, \"Several robots on one domain\")");
+      if (s.state == CameraState::kFailed) {
+        // The newcomer refused it (or failed on its own): we keep serving; say who tried.
+        out.push_back({s.ros_namespace, "monocled " + s.service + " also claims camera namespace " +
+                                            s.ros_namespace + " (camera '" + s.camera_id +
+                                            "'); this service keeps serving it (" + s.last_error +
+                                            ")"});
+        continue;
+      }
+      out.push_back(
+          {s.ros_namespace, "camera namespace " + s.ros_namespace + " (camera '" + s.camera_id +
+                                "') is also served by monocled " + s.service +
+                                " on this DDS domain: give each robot its own ros_namespace "
+                                "(see README, \"Several robots on one domain\")"});
     }
   }
 }

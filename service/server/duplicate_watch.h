@@ -1,8 +1,17 @@
-// Notices another monocled on the DDS domain serving one of our camera namespaces: its
-// requests and topics would mix with ours, and clients could not tell the two apart. Reads
-// /monocle/cameras (every service's camera status) and reports each clash once.
+// Another monocled on the DDS domain serving one of our camera namespaces: its requests and
+// topics would mix with ours, and clients could not tell the two apart. Reads
+// /monocle/cameras (every service's camera status, transient-local, so a newcomer learns at
+// once what is already served).
+//
+// The rule: a service starting finds out what is already served (WaitForServed) and refuses
+// those namespaces itself (state "failed", saying who serves them). Two services that start
+// within the same discovery wait both serve; each then reports the clash (NewClashes) in its
+// log and status, and clients refuse to use the namespace until one is stopped.
 #pragma once
 
+#include <chrono>
+#include <functional>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -20,8 +29,19 @@ class DuplicateWatch {
       const std::shared_ptr<dds::Entity>& participant, std::string own_service_id,
       std::vector<std::string> own_namespaces);
 
-  // Statuses received since the last call; returns a message for each new clash.
-  std::vector<std::string> NewClashes();
+  // Reads statuses for `wait` (discovery of the services already on the domain), or until
+  // `stop_requested`. Returns our namespaces another live service serves: namespace -> its
+  // service id.
+  std::map<std::string, std::string> WaitForServed(std::chrono::milliseconds wait,
+                                                   const std::function<bool()>& stop_requested);
+
+  struct Clash {
+    std::string ros_namespace;
+    std::string message;  // for the log and the camera's status
+  };
+  // Statuses received since the last call; one Clash for each newly seen other service on
+  // one of our namespaces (serving it, or having refused it because we serve it).
+  std::vector<Clash> NewClashes();
 
  private:
   DuplicateWatch() = default;

@@ -12,6 +12,7 @@
 #include "service/server/calibration_store.h"
 #include "service/server/camera_worker.h"
 #include "service/server/request_server.h"
+#include "service/vision/floor_calibrator.h"
 
 namespace monocle {
 
@@ -26,11 +27,20 @@ class FloorCalibrationHandler {
       const std::shared_ptr<dds::Entity>& participant, const std::vector<CameraSetup>& cameras,
       CalibrationStore& calibrations, FindWorker find_worker, OnCalibrated on_calibrated);
 
- private:
+  // What the handler does with a request, without DDS or camera (the fuzz target drives
+  // these): the board it names, whether that is a board (an invalid request if not), and the
+  // calibration from one frame with it (the frame's sequence named in the error).
   struct Board {
     int32_t cols = 0, rows = 0;
     double square_m = 0;
   };
+  static Board Parse(const monocle_msgs_srv_dds__CalibrateFloor_Request_& request);
+  static Result<BoardSpec> CheckBoard(const Board& board);
+  static Result<FloorCalibrationFromImage> CalibrateFrame(const Frame& frame,
+                                                          const CameraCalibration& calibration,
+                                                          const BoardSpec& board);
+
+ private:
   using Server = RequestServer<monocle_msgs_srv_dds__CalibrateFloor_Request_,
                                monocle_msgs_srv_dds__CalibrateFloor_Response_, Board>;
 

@@ -14,16 +14,7 @@ Result<std::unique_ptr<PointQueryHandler>> PointQueryHandler::Start(
       participant, CamerasWith(cameras, &CameraSetup::floor),
       &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
       &monocle_msgs_srv_dds__MeasurePoints_Response__desc, wire::kMeasurePoints,
-      [](const monocle_msgs_srv_dds__MeasurePoints_Request_& r) {
-        // Too many points is refused before their copies cost memory.
-        if (r.u._length > kMaxPointsPerRequest) {
-          return Query{MakeError(ErrorCode::kInvalidArgument,
-                                 "too many points in one request (" + std::to_string(r.u._length) +
-                                     " > " + std::to_string(kMaxPointsPerRequest) + "): split it"),
-                       r.pixel_sigma_px};
-        }
-        return Query{wire::FromSample(r), r.pixel_sigma_px};
-      },
+      &PointQueryHandler::Parse,
       [self = h.get()](Server::Incoming&& in) { self->Answer(std::move(in)); },
       // Up to 1000 points take under a millisecond: answered as they arrive.
       [](const Query& q) { return !q.pixels || q.pixels->size() <= kQuickPoints; });
@@ -32,22 +23,35 @@ Result<std::unique_ptr<PointQueryHandler>> PointQueryHandler::Start(
   return h;
 }
 
-void PointQueryHandler::Answer(Server::Incoming&& in) {
+PointQueryHandler::Query PointQueryHandler::Parse(
+    const monocle_msgs_srv_dds__MeasurePoints_Request_& r) {
+  // Too many points is refused before their copies cost memory.
+  if (r.u._length > kMaxPointsPerRequest) {
+    return Query{MakeError(ErrorCode::kInvalidArgument,
+                           "too many points in one request (" + std::to_string(r.u._length) +
+                               " > " + std::to_string(kMaxPointsPerRequest) + "): split it"),
+                 r.pixel_sigma_px};
+  }
+  return Query{wire::FromSample(r), r.pixel_sigma_px};
+}
+
+void PointQueryHandler::AnswerInto(const Query& query, const std::string& camera_id,
+                                   const CalibrationStore& calibrations, Reply* reply) {
   auto status = monocle_msgs_msg_dds__REQUEST_OK;
-  std::string error;
-  std::vector<MeasuredPoint> points;
-  if (!in.value.pixels) {
+  std::string& error = reply->error;
+  std::vector<MeasuredPoint>& points = reply->points;
+  if (!query.pixels) {
     status = monocle_msgs_msg_dds__REQUEST_INVALID;
-    error = in.value.pixels.error().message;
+    error = query.pixels.error().message;
   } else {
     std::vector<PixelPair> pairs;
-    pairs.reserve(in.value.pixels->size());
-    for (const auto& p : *in.value.pixels) {
+    pairs.reserve(query.pixels->size());
+    for (const auto& p : *query.pixels) {
       pairs.push_back({p.u, p.v, p.floor_px.has_value(), p.floor_px ? (*p.floor_px)[0] : 0,
                        p.floor_px ? (*p.floor_px)[1] : 0});
     }
-    const RequestAnswer answer = calibrations_.Read([&](const auto& cameras) {
-      return AnswerPointRequest(cameras, in.camera->id, pairs, in.value.pixel_sigma_px);
+    const RequestAnswer answer = calibrations.Read([&](const auto& cameras) {
+      return AnswerPointRequest(cameras, camera_id, pairs, query.pixel_sigma_px);
     });
     if (answer.status != RequestStatus::kAnswered) {
       status = monocle_msgs_msg_dds__REQUEST_INVALID;
@@ -65,10 +69,13 @@ void PointQueryHandler::Answer(Server::Incoming&& in) {
       p.error = a.error;
     }
   }
-  wire::PointReplyColumns columns;
-  monocle_msgs_srv_dds__MeasurePoints_Response_ reply;
-  wire::ToSample(status, error, points, &columns, &reply);
-  if (auto s = in.server->SendReply(reply, in.header); !s)
+  wire::ToSample(status, error, points, &reply->columns, &reply->sample);
+}
+
+void PointQueryHandler::Answer(Server::Incoming&& in) {
+  Reply reply;
+  AnswerInto(in.value, in.camera->id, calibrations_, &reply);
+  if (auto s = in.server->SendReply(reply.sample, in.header); !s)
     std::cerr << "monocled: " << s.error() << "\n";
 }
 

@@ -10,10 +10,7 @@ Result<std::unique_ptr<PoseQueryHandler>> PoseQueryHandler::Start(
   auto server = Server::Start(
       participant, CamerasWith(cameras, &CameraSetup::corner),
       &monocle_msgs_srv_dds__GetPose_Request__desc, &monocle_msgs_srv_dds__GetPose_Response__desc,
-      wire::kGetPose,
-      [](const monocle_msgs_srv_dds__GetPose_Request_& r) {
-        return static_cast<uint32_t>(r.which);
-      },
+      wire::kGetPose, &PoseQueryHandler::Parse,
       [self = h.get()](Server::Incoming&& in) { self->Answer(std::move(in)); },
       // Never blocks: the latest pose is copied, a wait for the next frame is queued.
       [](uint32_t) { return true; }, [self = h.get()] { self->ExpireWaiting(); });
@@ -22,26 +19,45 @@ Result<std::unique_ptr<PoseQueryHandler>> PoseQueryHandler::Start(
   return h;
 }
 
+uint32_t PoseQueryHandler::Parse(const monocle_msgs_srv_dds__GetPose_Request_& request) {
+  return static_cast<uint32_t>(request.which);
+}
+
+std::string PoseQueryHandler::InvalidWhich(uint32_t which) {
+  if (which == monocle_msgs_msg_dds__POSE_LATEST || which == monocle_msgs_msg_dds__POSE_NEXT_FRAME)
+    return "";
+  return "which must be POSE_LATEST (0) or POSE_NEXT_FRAME (1), not " + std::to_string(which);
+}
+
+Pose PoseQueryHandler::NoPose(const CameraSetup& camera) {
+  Pose empty;
+  empty.camera_id = camera.id;
+  empty.frame_id = camera.ros_parent_frame;
+  return empty;
+}
+
+void PoseQueryHandler::ReplyInto(monocle_msgs_msg_dds__RequestStatus status,
+                                 const std::string& error, const Pose& pose,
+                                 monocle_msgs_srv_dds__GetPose_Response_* reply) {
+  *reply = {};
+  reply->status = status;
+  reply->error = const_cast<char*>(error.c_str());
+  wire::ToSample(pose, &reply->pose);
+}
+
 void PoseQueryHandler::Reply(const Server::Incoming& in, monocle_msgs_msg_dds__RequestStatus status,
                              const std::string& error, const Pose* pose) {
-  Pose empty;
-  empty.camera_id = in.camera->id;
-  empty.frame_id = in.camera->ros_parent_frame;
-  monocle_msgs_srv_dds__GetPose_Response_ reply{};
-  reply.status = status;
-  reply.error = const_cast<char*>(error.c_str());
-  wire::ToSample(pose != nullptr ? *pose : empty, &reply.pose);
+  const Pose empty = NoPose(*in.camera);
+  monocle_msgs_srv_dds__GetPose_Response_ reply;
+  ReplyInto(status, error, pose != nullptr ? *pose : empty, &reply);
   if (auto s = in.server->SendReply(reply, in.header); !s)
     std::cerr << "monocled: " << s.error() << "\n";
 }
 
 void PoseQueryHandler::Answer(Server::Incoming&& in) {
   const std::string& camera = in.camera->id;
-  if (in.value != monocle_msgs_msg_dds__POSE_LATEST &&
-      in.value != monocle_msgs_msg_dds__POSE_NEXT_FRAME) {
-    Reply(in, monocle_msgs_msg_dds__REQUEST_INVALID,
-          "which must be POSE_LATEST (0) or POSE_NEXT_FRAME (1), not " + std::to_string(in.value),
-          nullptr);
+  if (const std::string invalid = InvalidWhich(in.value); !invalid.empty()) {
+    Reply(in, monocle_msgs_msg_dds__REQUEST_INVALID, invalid, nullptr);
     return;
   }
   std::unique_lock<std::mutex> lock(mutex_);

@@ -25,6 +25,15 @@ class PoseQueryHandler {
   // Every pose of a processed frame (from the camera's processing thread).
   void OnPose(const Pose& pose);
 
+  // What the handler does with a request, without DDS (the fuzz target drives these): the
+  // request's `which`, why it is invalid ("" when it is not), and the reply (the pose sent
+  // with a failure is NoPose). The reply points into `error` and `pose`.
+  static uint32_t Parse(const monocle_msgs_srv_dds__GetPose_Request_& request);
+  static std::string InvalidWhich(uint32_t which);
+  static Pose NoPose(const CameraSetup& camera);
+  static void ReplyInto(monocle_msgs_msg_dds__RequestStatus status, const std::string& error,
+                        const Pose& pose, monocle_msgs_srv_dds__GetPose_Response_* reply);
+
  private:
   using Server = RequestServer<monocle_msgs_srv_dds__GetPose_Request_,
                                monocle_msgs_srv_dds__GetPose_Response_, uint32_t>;

@@ -60,6 +60,14 @@ class RequestServer {
   // takes the clients in turn.
   static constexpr size_t kMaxQueuedPerClient = 8;
   static constexpr size_t kMaxQueued = 64;
+  // A new client's first request may come before its reply reader is matched to our reply
+  // writer (discovery runs both ways independently) and a volatile reply written now would
+  // be lost: such requests wait aside, without holding the thread, until the match (checked
+  // every kParkedCheck) or kParkedLimit.
+  static constexpr size_t kMaxParked = 64;
+  static constexpr std::chrono::milliseconds kParkedCheck{2};
+  static constexpr std::chrono::milliseconds kParkedLimit{3000};
+  static constexpr size_t kMaxKnownWriters = 4096;
 
   // `cameras` must outlive the server. `handle` may run on two threads at once.
   static Result<std::unique_ptr<RequestServer>> Start(
@@ -140,14 +148,38 @@ class RequestServer {
   }
 
   // A request without a client id (the ROS 2 header's guid 0) cannot be told from others'
-  // and its reply would reach nobody in particular: dropped, logged at most once a second.
-  // (Per-client rate limits on the receive thread were tried against bench/hostile_load's
-  // flood and are not in: README, "Hostile input".)
+  // and its reply would reach nobody in particular: dropped. A ROS 2 client keeps one client
+  // id for its request writer (rmw_cyclonedds_cpp: the writer's own id; monocle's client
+  // too), so a writer whose id changes between requests is not a client but a flood of
+  // made-up ones: its requests after the first id are dropped before any work, and no reply
+  // (which every client's reply reader would receive and have to discard) is sent. Both
+  // logged at most once a second.
   enum class Admission { kNow, kDrop };
   Admission Admit(PerCamera& pc, const dds::RequestHeader& h) {
-    if (h.guid != 0) return Admission::kNow;
+    if (h.guid == 0) {
+      Warn(std::chrono::steady_clock::now(),
+           pc.camera->id + ": a request without a client id (guid 0) was dropped");
+      return Admission::kDrop;
+    }
+    {
+      std::lock_guard<std::mutex> lock(ids_mutex_);
+      // Bounded: a long-running service forgets old writers and learns them again.
+      if (client_ids_.size() > kMaxKnownWriters) client_ids_.clear();
+      const auto [it, first] = client_ids_.emplace(h.publication, std::make_pair(h.guid, h.seq));
+      if (first) return Admission::kNow;
+      if (it->second.first == h.guid) {
+        // A client sends a request of an idempotent service (points, poses) again when no
+        // reply came (the request or the reply was lost): the newest one is answered again;
+        // a copy older than a request already taken is dropped.
+        if (h.seq < it->second.second) return Admission::kDrop;
+        it->second.second = h.seq;
+        return Admission::kNow;
+      }
+    }
     Warn(std::chrono::steady_clock::now(),
-         pc.camera->id + ": a request without a client id (guid 0) was dropped");
+         pc.camera->id +
+             ": a request writer changed its client id (guid) between requests; "
+             "its requests under a new id are dropped");
     return Admission::kDrop;
   }
 
@@ -206,17 +238,52 @@ class RequestServer {
   void Run() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stop_) {
-      wake_.wait_for(lock, kTick, [&] { return stop_ || queued_ > 0; });
+      wake_.wait_for(lock, parked_.empty() ? kTick : kParkedCheck,
+                     [&] { return stop_ || queued_ > 0; });
       Incoming in;
       while (!stop_ && Dequeue(&in)) {
         lock.unlock();
-        handle_(std::move(in));
+        if (in.server->ClientReaderMatched(in.header)) {
+          handle_(std::move(in));
+        } else {
+          Park(std::move(in));
+        }
         lock.lock();
       }
+      lock.unlock();
+      HandleParked();
+      lock.lock();
       if (tick_) {
         lock.unlock();
         tick_();
         lock.lock();
+      }
+    }
+  }
+
+  // Only the server's thread touches parked_.
+  void Park(Incoming&& in) {
+    if (parked_.size() >= kMaxParked) {
+      parked_.pop_front();
+      Warn(std::chrono::steady_clock::now(),
+           "too many requests from clients not yet discovered; the oldest was dropped");
+    }
+    parked_.push_back({std::chrono::steady_clock::now(), std::move(in)});
+  }
+
+  void HandleParked() {
+    const auto now = std::chrono::steady_clock::now();
+    for (auto it = parked_.begin(); it != parked_.end();) {
+      if (it->second.server->ClientReaderMatched(it->second.header)) {
+        Incoming in = std::move(it->second);
+        it = parked_.erase(it);
+        handle_(std::move(in));
+      } else if (now - it->first > kParkedLimit) {
+        Warn(now, it->second.camera->id +
+                      ": a client's reply reader was never discovered; its request was dropped");
+        it = parked_.erase(it);
+      } else {
+        ++it;
       }
     }
   }
@@ -232,6 +299,10 @@ class RequestServer {
   std::deque<dds_instance_handle_t> turns_;                       // clients waiting, in turn
   size_t queued_ = 0;
   bool stop_ = false;
+  std::deque<std::pair<std::chrono::steady_clock::time_point, Incoming>> parked_;
+  std::mutex ids_mutex_;
+  // Request writer -> its client id and the last sequence number taken from it.
+  std::map<dds_instance_handle_t, std::pair<uint64_t, int64_t>> client_ids_;
   std::mutex warn_mutex_;
   std::chrono::steady_clock::time_point last_warning_{};
   std::thread thread_;

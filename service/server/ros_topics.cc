@@ -43,8 +43,16 @@ std::string RosTopics::WireTopic(const CameraSetup& camera, const std::string& l
 }
 
 Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::Entity>& p,
-                                                   const std::vector<CameraSetup>& cameras) {
+                                                   const std::vector<CameraSetup>& cameras,
+                                                   const std::vector<CameraSetup>& status_only) {
   std::unique_ptr<RosTopics> r(new RosTopics());
+  for (const auto& cam : status_only) {
+    auto status = OpenWriter<monocle_msgs_msg_dds__CameraStatus_>(
+        p, &monocle_msgs_msg_dds__CameraStatus__desc, wire::kCamerasTopic,
+        wire::kDirectoryWriterQos);
+    if (!status) return status.error();
+    r->cameras_[cam.id].status = std::move(status).value();
+  }
   for (const auto& cam : cameras) {
     PerCamera& c = r->cameras_[cam.id];
     auto status = OpenWriter<monocle_msgs_msg_dds__CameraStatus_>(
@@ -238,13 +246,17 @@ void RosTopics::PublishDiagnostics(
     const auto& [setup, st] = cameras[i];
     auto& s = status[i];
     auto& t = text[i];
-    // OK while streaming; ERROR while the camera is lost (no measurements); STALE once stopped.
+    // OK while streaming; ERROR while the camera is lost or failed (no measurements); STALE
+    // once stopped.
     s.level = st.state == CameraState::kStreaming ? 0 : st.state == CameraState::kStopped ? 3 : 2;
     t[0] = "monocle: " + setup->id;
-    t[1] = st.state == CameraState::kStreaming ? "streaming"
-           : st.state == CameraState::kStopped ? "stopped"
-           : st.last_error.empty()             ? "reconnecting"
-                                               : "reconnecting: " + st.last_error;
+    t[1] = st.state == CameraState::kStreaming      ? "streaming"
+           : st.state == CameraState::kReconnecting ? "reconnecting"
+           : st.state == CameraState::kFailed       ? "failed"
+                                                    : "stopped";
+    if (st.state != CameraState::kStreaming && st.state != CameraState::kStopped &&
+        !st.last_error.empty())
+      t[1] += ": " + st.last_error;
     s.name = Chars(t[0]);
     s.message = Chars(t[1]);
     s.hardware_id = Chars(setup->options.device);

@@ -29,8 +29,11 @@ namespace monocle {
 
 class RosTopics {
  public:
+  // `status_only`: cameras configured but not served (refused): only their status is
+  // published, on /monocle/cameras.
   static Result<std::unique_ptr<RosTopics>> Open(const std::shared_ptr<dds::Entity>& participant,
-                                                 const std::vector<CameraSetup>& cameras);
+                                                 const std::vector<CameraSetup>& cameras,
+                                                 const std::vector<CameraSetup>& status_only = {});
 
   // The pose of a processed frame on corner_pose; and, if valid and not suspect, on pose
   // and tf.

@@ -23,12 +23,15 @@ std::string ThisServiceId() {
 
 }  // namespace
 
-Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup) {
+Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup,
+                                                const std::function<bool()>& stop_requested) {
+  const Error cancelled = MakeError(ErrorCode::kCancelled, "start-up stopped by a signal");
   std::unique_ptr<Service> s(new Service());
   s->setup_ = setup;
   s->service_id_ = ThisServiceId();
   std::map<std::string, CameraCalibration> loaded;
   for (const auto& cam : s->setup_.cameras) {
+    if (stop_requested()) return cancelled;
     auto cal = LoadCalibrationFile(cam.calibration_path);
     if (!cal) return MakeError(cal.error().code, "camera '" + cam.id + "': " + cal.error().message);
     if (cam.corner() && !cam.ceiling_distance_m && !cal->ceiling_distance_m) {
@@ -41,22 +44,47 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup) {
     s->calibrations_.Add(cam.id, *cal);
   }
 
+  if (stop_requested()) return cancelled;
   auto participant =
       dds::CreateParticipant(s->setup_.domain, s->setup_.security_dir, wire::kMaxSampleBytes);
   if (!participant) return participant.error();
   s->participant_ = *participant;
   const auto& p = s->participant_;
-  const auto& cameras = s->setup_.cameras;
 
-  auto topics = RosTopics::Open(p, cameras);
-  if (!topics) return topics.error();
-  s->topics_ = std::move(topics).value();
+  // A camera namespace another monocled already serves is refused here, before anything of
+  // it is opened: its requests and topics stay the other service's alone.
   std::vector<std::string> namespaces;
-  for (const auto& cam : cameras) namespaces.push_back(cam.ros_namespace);
+  for (const auto& cam : s->setup_.cameras) namespaces.push_back(cam.ros_namespace);
   auto duplicates = DuplicateWatch::Open(p, s->service_id_, namespaces);
   if (!duplicates) return duplicates.error();
   s->duplicates_ = std::move(duplicates).value();
+  const auto served = s->duplicates_->WaitForServed(s->setup_.discovery_wait, stop_requested);
+  if (stop_requested()) return cancelled;
+  for (auto it = s->setup_.cameras.begin(); it != s->setup_.cameras.end();) {
+    const auto other = served.find(it->ros_namespace);
+    if (other == served.end()) {
+      ++it;
+      continue;
+    }
+    WorkerStatus refusal;
+    refusal.state = CameraState::kFailed;
+    refusal.last_error = "not served: camera namespace " + it->ros_namespace +
+                         " is already served by monocled " + other->second +
+                         " on this DDS domain; give this camera its own ros_namespace";
+    refusal.last_error_ns = UnixNowNs();
+    std::cerr << "monocled: camera '" << it->id << "' " << refusal.last_error << "\n";
+    s->refused_.push_back({*it, refusal});
+    it = s->setup_.cameras.erase(it);
+  }
+  const auto& cameras = s->setup_.cameras;
+  std::vector<CameraSetup> status_only;
+  for (const auto& r : s->refused_) status_only.push_back(r.camera);
 
+  auto topics = RosTopics::Open(p, cameras, status_only);
+  if (!topics) return topics.error();
+  s->topics_ = std::move(topics).value();
+
+  if (stop_requested()) return cancelled;
   Service* self = s.get();
   auto points = PointQueryHandler::Start(p, cameras, s->calibrations_);
   if (!points) return points.error();
@@ -80,8 +108,12 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup) {
         },
         [self, &cam](const Frame& frame) { self->topics_->PublishImage(cam, frame); }));
   }
+  if (stop_requested()) return cancelled;
   for (const auto& cam : cameras) s->PublishCalibration(cam, loaded[cam.id], 1);
-  for (auto& w : s->workers_) w->Start();
+  for (auto& w : s->workers_) {
+    if (stop_requested()) return cancelled;  // ~Service stops the workers already started
+    w->Start();
+  }
   s->PublishStatus();
   return s;
 }
@@ -96,6 +128,12 @@ void Service::Stop() {
   pose_queries_.reset();
   floor_calibration_.reset();
   for (auto& w : workers_) PublishStatusOf(*w, false);
+  // A refused camera was never ours: its last word is "stopped" too, so nobody waits on it.
+  for (auto& r : refused_) {
+    if (!topics_) break;  // start-up was stopped before the topics were opened
+    r.status.state = CameraState::kStopped;
+    topics_->PublishStatus(r.camera, CameraStatusOf(r.camera, r.status, service_id_, UnixNowNs()));
+  }
 }
 
 CameraWorker* Service::Find(const std::string& camera_id) {
@@ -111,9 +149,18 @@ void Service::OnProcessed(const CameraSetup& camera, const ProcessedFrame& frame
 }
 
 void Service::PublishStatus() {
+  for (auto& clash : duplicates_->NewClashes()) {
+    std::cerr << "monocled: " << clash.message << "\n";
+    std::lock_guard<std::mutex> lock(notes_mutex_);
+    notes_[clash.ros_namespace] = {std::move(clash.message), UnixNowNs()};
+  }
   std::vector<std::pair<const CameraSetup*, WorkerStatus>> statuses;
   for (auto& w : workers_) statuses.emplace_back(&w->setup(), PublishStatusOf(*w, true));
   const int64_t now_ns = UnixNowNs();
+  for (const auto& r : refused_) {
+    topics_->PublishStatus(r.camera, CameraStatusOf(r.camera, r.status, service_id_, now_ns));
+    statuses.emplace_back(&r.camera, r.status);
+  }
   topics_->PublishDiagnostics(statuses, now_ns);
   {
     std::lock_guard<std::mutex> lock(intrinsics_mutex_);
@@ -122,11 +169,19 @@ void Service::PublishStatus() {
         topics_->PublishCameraInfo(w->setup(), it->second, now_ns);
     }
   }
-  for (const auto& clash : duplicates_->NewClashes()) std::cerr << "monocled: " << clash << "\n";
 }
 
 WorkerStatus Service::PublishStatusOf(CameraWorker& worker, bool new_period) {
-  const WorkerStatus st = worker.Snapshot(new_period);
+  WorkerStatus st = worker.Snapshot(new_period);
+  {
+    // Another service on this camera's namespace: said in its status until a newer error.
+    std::lock_guard<std::mutex> lock(notes_mutex_);
+    const auto note = notes_.find(worker.setup().ros_namespace);
+    if (note != notes_.end() && note->second.second >= st.last_error_ns) {
+      st.last_error = note->second.first;
+      st.last_error_ns = note->second.second;
+    }
+  }
   topics_->PublishStatus(worker.setup(),
                          CameraStatusOf(worker.setup(), st, service_id_, UnixNowNs()));
   return st;

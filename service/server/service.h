@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,8 +27,12 @@ namespace monocle {
 class Service {
  public:
   // Loads every camera's calibration, opens DDS, starts the cameras and request handlers.
-  // Errors name the camera and the file.
-  static Result<std::unique_ptr<Service>> Start(const ServiceSetup& setup);
+  // Errors name the camera and the file. `stop_requested` is asked between the steps of
+  // start-up (and between cameras); when it says yes, Start undoes what it did and fails
+  // with kCancelled, so a stop signal is obeyed during start-up too.
+  static Result<std::unique_ptr<Service>> Start(
+      const ServiceSetup& setup,
+      const std::function<bool()>& stop_requested = [] { return false; });
   ~Service();
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
@@ -48,7 +53,15 @@ class Service {
                           uint64_t revision);
   CameraWorker* Find(const std::string& camera_id);
 
-  ServiceSetup setup_;  // handlers and topics keep pointers to its cameras
+  ServiceSetup setup_;  // the cameras served; handlers and topics keep pointers to them
+  struct Refused {
+    CameraSetup camera;
+    WorkerStatus status;  // failed, and why
+  };
+  std::vector<Refused> refused_;  // configured, but another service serves their namespace
+  std::mutex notes_mutex_;
+  // Per namespace: another service seen on it, and when (Unix ns).
+  std::map<std::string, std::pair<std::string, int64_t>> notes_;
   std::string service_id_;
   std::shared_ptr<dds::Entity> participant_;
   CalibrationStore calibrations_;

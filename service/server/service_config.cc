@@ -11,6 +11,7 @@
 #include "camera/sim/sim_gv_camera.h"
 #include "client/protocol/dds.h"
 #include "idl/service_config.pb.h"
+#include "service/io/bounded_file.h"
 #include "service/io/calibration_file.h"
 #include "service/io/text_proto.h"
 
@@ -94,15 +95,34 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
     out.status_period =
         std::chrono::milliseconds(static_cast<int64_t>(msg.status_period_s() * 1000));
   }
+  if (msg.has_discovery_wait_s()) {
+    if (!(msg.discovery_wait_s() >= 0 && msg.discovery_wait_s() <= 60))
+      return errors.Top("discovery_wait_s", "must be 0..60 seconds");
+    out.discovery_wait =
+        std::chrono::milliseconds(static_cast<int64_t>(msg.discovery_wait_s() * 1000));
+  }
   if (msg.camera_size() == 0)
     return MakeError(ErrorCode::kInvalidArgument,
                      source + ": no camera { ... } configured (see monocled --print-config)");
+  // One service runs a thread or two per camera and opens a dozen DDS endpoints for each:
+  // past a few dozen cameras that is a configuration mistake (or an attack), not a robot.
+  if (msg.camera_size() > kMaxCamerasPerService)
+    return errors.Camera(kMaxCamerasPerService, "id",
+                         "is one camera too many: a service serves at most " +
+                             std::to_string(kMaxCamerasPerService) +
+                             " cameras; run another monocled for more");
   std::set<std::string> ids;
   for (int i = 0; i < msg.camera_size(); ++i) {
     const auto& c = msg.camera(i);
     CameraSetup cam;
     if (c.device().empty())
       return errors.Camera(i, "device", "is missing: an Aravis id, IP, serial or sim-corner");
+    if (c.device().size() > kMaxNameLength)
+      return errors.Camera(i, "device",
+                           "is longer than " + std::to_string(kMaxNameLength) + " characters");
+    if (c.id().size() > kMaxNameLength)
+      return errors.Camera(i, "id",
+                           "is longer than " + std::to_string(kMaxNameLength) + " characters");
     cam.options.device = c.device();
     cam.id = c.id().empty() ? c.device() : c.id();
     if (!ids.insert(cam.id).second)
@@ -213,11 +233,9 @@ std::string RosNameToken(const std::string& name) {
 }
 
 Result<ServiceSetup> LoadServiceConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return MakeError(ErrorCode::kNotFound, "cannot read configuration file '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseServiceConfig(text.str(), path, std::filesystem::path(path).parent_path().string());
+  auto text = ReadBoundedFile(path, "configuration file", kMaxTextFileBytes);
+  if (!text) return text.error();
+  return ParseServiceConfig(*text, path, std::filesystem::path(path).parent_path().string());
 }
 
 std::string EmbeddedDefaultConfig() {

@@ -45,11 +45,17 @@ struct CameraSetup {
   bool floor() const { return role != CameraRole::kCorner; }
 };
 
+// Limits of a configuration, checked with the field named.
+inline constexpr int kMaxCamerasPerService = 64;
+inline constexpr size_t kMaxNameLength = 128;  // a camera's id or device
+
 struct ServiceSetup {
   int domain = 0;
   std::string security_dir;  // DDS Security identity directory; empty: plain DDS
   std::vector<CameraSetup> cameras;
   std::chrono::milliseconds status_period{1000};
+  // Listening for the services already on the domain at start (duplicate_watch.h).
+  std::chrono::milliseconds discovery_wait{1000};
 };
 
 // `source` names the file in messages; relative calibration paths resolve against `base_dir`.

@@ -108,6 +108,10 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
       {"camera { device: \"a\" role: CORNER calibration: \"y\"\n"
        "  mount { base_frame: \"b\" translation_m: [0, 0, 1] rotation_xyzw: [0, 0, 0, 2] } }\n",
        "camera[0].mount.rotation_xyzw must be a unit quaternion (its norm is 2"},
+      {"camera {\n  device: \"a\"\n  id: "
+       "\"xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx"
+       "xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\"\n}\n",
+       "cfg: line 3: camera[0].id is longer than 128 characters"},
   };
   for (const auto& c : cases) {
     const auto setup = ParseServiceConfig(c.text, "cfg", "");
@@ -115,6 +119,28 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
     EXPECT_NE(setup.error().message.find(c.expected), std::string::npos)
         << "expected '" << c.expected << "' in: " << setup.error().message;
   }
+}
+
+// Issue 14: 200 000 cameras kept monocled busy (ignoring SIGTERM) for minutes; the count is
+// now refused where the first camera too many is written.
+TEST(ServiceConfigTest, RefusesMoreCamerasThanOneServiceServes) {
+  std::string text;
+  for (int i = 0; i <= kMaxCamerasPerService; ++i)
+    text += "camera { device: \"c" + std::to_string(i) + "\" role: FLOOR calibration: \"x\" }\n";
+  const auto setup = ParseServiceConfig(text, "cfg", "");
+  ASSERT_FALSE(setup.ok());
+  EXPECT_NE(setup.error().message.find("cfg: line 65: camera[64]"), std::string::npos)
+      << setup.error();
+  EXPECT_NE(setup.error().message.find("at most 64 cameras"), std::string::npos) << setup.error();
+  // One fewer is fine.
+  text.erase(text.rfind("camera {"));
+  EXPECT_TRUE(ParseServiceConfig(text, "cfg", "").ok());
+}
+
+TEST(ServiceConfigTest, RefusesAConfigurationThatIsNotARegularFile) {
+  const auto setup = LoadServiceConfig("/dev/zero");
+  ASSERT_FALSE(setup.ok());
+  EXPECT_NE(setup.error().message.find("not a regular file"), std::string::npos) << setup.error();
 }
 
 TEST(ServiceConfigTest, SimulatorCalibrationsAreWrittenOnceAndLoad) {

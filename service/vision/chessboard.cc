@@ -16,9 +16,11 @@ Result<BoardSpec> ParseBoardSize(const std::string& text, double square_m) {
                      "--board '" + text + "' is not COLSxROWS (inner corners, e.g. 9x6)");
   }
   BoardSpec spec{std::stoi(match[1]), std::stoi(match[2]), square_m};
-  if (spec.cols < 2 || spec.rows < 2 || spec.cols > 100 || spec.rows > 100) {
+  // OpenCV's detector needs at least 3 inner corners each way (it throws on fewer: found by
+  // tests/fuzz/requests_fuzz, a remote calibration request for a 2x5 board ended monocled).
+  if (spec.cols < 3 || spec.rows < 3 || spec.cols > 100 || spec.rows > 100) {
     return MakeError(ErrorCode::kInvalidArgument,
-                     "--board '" + text + "': each count of inner corners must be 2..100");
+                     "--board '" + text + "': each count of inner corners must be 3..100");
   }
   if (!(square_m > 0) || !std::isfinite(square_m)) {
     return MakeError(ErrorCode::kInvalidArgument, "--square must be a positive length in metres");
@@ -57,6 +59,11 @@ cv::Point2f PredictFromNeighbours(const std::vector<cv::Point2f>& c, int cols, i
 Result<BoardObservation> DetectChessboard(const cv::Mat& grey, const BoardSpec& spec) {
   if (grey.empty() || grey.type() != CV_8UC1) {
     return MakeError(ErrorCode::kInvalidArgument, "board detection needs an 8-bit grey image");
+  }
+  if (spec.cols < 3 || spec.rows < 3) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "a chessboard needs at least 3x3 inner corners, not " +
+                         std::to_string(spec.cols) + "x" + std::to_string(spec.rows));
   }
   // OpenCV's sector-based detector, coarse to fine. The classic findChessboardCorners can
   // take minutes when a larger board than requested is in view (measured: 157 s for 10x8

@@ -80,6 +80,12 @@ TEST(ChessboardTest, ParsesBoardSizes) {
   EXPECT_EQ(ParseBoardSize("9X6", 0.1)->rows, 6);
   EXPECT_FALSE(ParseBoardSize("9*6", 0.1).ok());
   EXPECT_FALSE(ParseBoardSize("1x6", 0.1).ok());
+  // OpenCV's detector throws on fewer than 3 inner corners a side (a remote request ended
+  // monocled with one): refused here, with the range.
+  const auto two = ParseBoardSize("2x5", 0.1);
+  ASSERT_FALSE(two.ok());
+  EXPECT_NE(two.error().message.find("3..100"), std::string::npos) << two.error().message;
+  EXPECT_TRUE(ParseBoardSize("3x3", 0.1).ok());
   EXPECT_FALSE(ParseBoardSize("9x6", -0.1).ok());
 }
 

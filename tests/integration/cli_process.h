@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -78,6 +79,28 @@ class ChildProcess {
   ~ChildProcess() { Stop(); }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
+
+  // SIGTERM, then up to `limit` for it to exit; after that SIGKILL. Its exit status, or -2 if
+  // it had to be killed (-1 if it did not exit normally).
+  int StopWithin(std::chrono::milliseconds limit) {
+    if (pid_ <= 0) return status_;
+    kill(pid_, SIGTERM);
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    int status = 0;
+    while (waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, &status, 0);
+        pid_ = -1;
+        return status_ = -2;
+      }
+      usleep(10000);
+    }
+    pid_ = -1;
+    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return status_;
+  }
+  pid_t pid() const { return pid_; }
 
   // Its exit status (-1 if it did not exit normally).
   int Stop() {

@@ -34,6 +34,8 @@ class PointQueryTest : public testing::ServiceTest {
     // The point queries use only the calibration file; the camera gives the status.
     ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
 camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
+camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtxt"
+         ceiling_distance_m: 1.6 }
 )"));
   }
 };
@@ -92,6 +94,27 @@ TEST_F(PointQueryTest, MalformedRequestsGetTypedErrorsAndTheServiceKeepsServing)
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code, ClientError::Code::kInvalidRequest);
   EXPECT_NE(r.error().message.find("unknown camera 'no-such-camera'"), std::string::npos);
+
+  // Issue 14: a 1 MB camera id was echoed back whole in the error.
+  r = client_->measure(std::string(1 << 20, 'x'), {{640, 800, {}}});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ClientError::Code::kInvalidRequest);
+  EXPECT_LT(r.error().message.size(), 400u);
+  EXPECT_NE(r.error().message.find("(1048576 characters)"), std::string::npos) << r.error();
+
+  // Issue 14: sim-corner was called an "unknown floor camera"; it is a corner camera.
+  r = client_->measure("corner", {{640, 800, {}}});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, ClientError::Code::kInvalidRequest);
+  EXPECT_NE(r.error().message.find("camera 'corner' is not a floor camera (role corner)"),
+            std::string::npos)
+      << r.error();
+
+  // Issue 14: a paired point whose top is below its foot got a negative height silently.
+  r = client_->measure("floor", {{640, 900, std::array<double, 2>{640, 700}}});
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ((*r)[0].status, MeasuredPoint::Status::kNotMeasurable);
+  EXPECT_NE((*r)[0].error.find("is below its foot"), std::string::npos) << (*r)[0].error;
 
   // Still serving.
   r = client_->measure("floor", {{640, 800, {}}});

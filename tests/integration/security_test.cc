@@ -191,7 +191,8 @@ TEST_F(SecurityTest, ParticipantsWithoutAnIdentityOfThisCaSeeNothingAndGetNoAnsw
   wire::PointRequestColumns columns;
   monocle_msgs_srv_dds__MeasurePoints_Request_ request{};
   wire::ToSample({{640, 900, {}}}, 0, &columns, &request);
-  auto reply = points->Call<int>(request, 1s, [](const auto&) { return 1; });
+  auto reply = points->Call<int>(
+      request, 1s, [](const auto&) { return 1; }, 0ms);
   ASSERT_TRUE(reply.ok());
   EXPECT_FALSE(reply->has_value());
   size_t received = 0;

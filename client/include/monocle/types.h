@@ -55,9 +55,13 @@ struct Pose {
 
 enum class PoseWhich { kLatest, kNextFrame };
 
-enum class CameraState : uint8_t { kStreaming = 0, kReconnecting = 1, kStopped = 2 };
+// One state type from the camera up to the client. kReconnecting: not streaming but retried
+// (camera not found yet, lost, stalled). kFailed: a permanent error, reported once and not
+// retried (a configuration the camera cannot take, or a camera namespace another monocled
+// already serves): see last_error, fix the configuration and restart.
+enum class CameraState : uint8_t { kStreaming = 0, kReconnecting = 1, kStopped = 2, kFailed = 3 };
 MONOCLE_CLIENT_API const char* ToString(
-    CameraState state);  // "streaming", "reconnecting", "stopped"
+    CameraState state);  // "streaming", "reconnecting", "stopped", "failed"
 
 struct CameraStatus {
   std::string camera_id, device, role;  // role: "corner", "floor" or "corner+floor"

@@ -1,0 +1,33 @@
+// Loading an image file named by a user: its width and height are read from the format's
+// header (PNG, JPEG, PNM, BMP, TIFF) and checked before anything is decoded, so a
+// 20000 × 20000 PNG of a few kilobytes costs an error message, not 400 MB. OpenCV 4.6 has no
+// public header-only read, and its own pixel limit (OPENCV_IO_MAX_IMAGE_PIXELS, 1 gigapixel)
+// is fixed when the library loads, so the header is read here.
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <string_view>
+
+#include "service/common/result.h"
+
+namespace monocle {
+
+// 64 megapixels: above any machine-vision sensor monocle is meant for (and 64 MB decoded).
+inline constexpr uint64_t kMaxImagePixels = 64ull << 20;
+
+struct ImageHeader {
+  std::string format;  // "PNG", "JPEG", "PNM", "BMP", "TIFF"
+  uint64_t width_px = 0, height_px = 0;
+};
+
+// The image's size from its first bytes. kInvalidArgument for an unknown format or a header
+// that does not hold together.
+Result<ImageHeader> ReadImageHeader(std::string_view bytes);
+
+// The file as an 8-bit grey image: regular file, ≤ kMaxImageFileBytes, ≤ kMaxImagePixels by
+// its header, then decoded. Errors name the file and say what to do.
+Result<cv::Mat> ReadGreyImageFile(const std::string& path);
+
+}  // namespace monocle

@@ -1,0 +1,35 @@
+// Fuzz target: a POINT argument of `monocle floor measure` (u,v or u,v@fu,fv), parsed and
+// then measured with a floor camera's calibration as the command does: every input gets a
+// point with a finite 1 sigma, or an error that says why.
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "client/cli/args.h"
+#include "service/server/point_queries.h"
+#include "tests/fuzz/fuzz_input.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const auto point = monocle::cli::ParsePointArgument(text);
+  if (!point) {
+    FUZZ_CHECK(!point.error().message.empty());
+    return 0;
+  }
+  FUZZ_CHECK(std::isfinite(point->u) && std::isfinite(point->v));  // others refused
+  const std::map<std::string, monocle::CameraCalibration> cameras{
+      {"floor", monocle::fuzz::FloorCamera()}};
+  const monocle::PixelPair pair{point->u, point->v, point->floor_px.has_value(),
+                                point->floor_px ? point->floor_px->first : 0,
+                                point->floor_px ? point->floor_px->second : 0};
+  const auto answer =
+      monocle::AnswerPointRequest(cameras, "floor", {pair}, monocle::kDefaultPixelSigmaPx);
+  FUZZ_CHECK(answer.status == monocle::RequestStatus::kAnswered && answer.points.size() == 1);
+  const auto& a = answer.points[0];
+  if (a.status == monocle::PointStatus::kMeasured) {
+    FUZZ_CHECK(a.measurement.p_robot_m.allFinite() && a.measurement.Sigma().allFinite());
+  } else {
+    FUZZ_CHECK(!a.error.empty());  // every refusal says why
+  }
+  return 0;
+}
