@@ -5,6 +5,7 @@
 //      query is answered again, how much monocled's resident memory grows;
 //   2. a flood of one-point requests with a fresh client id (guid) each, from another process,
 //      for --flood-seconds: the good client's queries meanwhile (lost, p50, p99), RSS growth;
+//      then the same under one client id (a client asking as fast as it can);
 //   3. --clients clients x --queries queries each at once: lost, p99.
 //
 // monocled runs in its own process with its simulated floor camera (state in a temporary
@@ -104,14 +105,16 @@ int HugeWorker(int domain, const std::string& ns, size_t points) {
   return 0;
 }
 
-int FloodWorker(int domain, const std::string& ns, double seconds) {
+// `same_id`: every request under the writer's own client id, as a ROS 2 client sends them
+// (a client asking as fast as it can), instead of a fresh one each time.
+int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id) {
   auto participant = monocle::dds::CreateParticipant(domain);
   if (!participant) return 1;
   // A reply reader too, so the service sees a client it can answer (the costlier case).
   auto replies = monocle::dds::Endpoint<Reply>::Open(
       *participant, &monocle_msgs_srv_dds__MeasurePoints_Response__desc,
       monocle::wire::ReplyTopic(ns, monocle::wire::kMeasurePoints).c_str(), false, true,
-      monocle::wire::kRosDefaultQos);
+      monocle::dds::EndpointQos{4096, false});  // deep enough to count every reply
   auto ep = monocle::dds::Endpoint<Request>::Open(
       *participant, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
       monocle::wire::RequestTopic(ns, monocle::wire::kMeasurePoints).c_str(), true, false,
@@ -121,15 +124,29 @@ int FloodWorker(int domain, const std::string& ns, double seconds) {
   Request r{};
   monocle::wire::ToSample({{640, 900, std::nullopt}}, 0, &columns, &r);
   std::mt19937_64 rng(7);
-  uint64_t sent = 0;
+  dds_instance_handle_t own_id = 0;
+  (void)dds_get_instance_handle(ep->writer(), &own_id);
+  uint64_t sent = 0, answered = 0;
+  const auto count_replies = [&] {
+    for (;;) {  // Take returns at most 16 at a time
+      const auto taken = replies->Take<int>(0ms, [&](const Reply& reply) {
+        return reply.guid == own_id ? 1 : 0;  // same_id: a reply to this client
+      });
+      if (!taken || taken->empty()) return;
+      answered += static_cast<uint64_t>(std::count(taken->begin(), taken->end(), 1));
+    }
+  };
   const auto end = Clock::now() + std::chrono::duration<double>(seconds);
   while (Clock::now() < end) {
-    r.guid = rng() | 1;  // a fresh client id every time
+    r.guid = same_id ? own_id : rng() | 1;
     r.seq = static_cast<int64_t>(++sent);
     (void)ep->Write(r);
-    if ((sent & 1023) == 0) (void)replies->Take<int>(0ms, [](const Reply&) { return 0; });
+    if ((sent & 1023) == 0) count_replies();
   }
+  std::this_thread::sleep_for(500ms);  // the last replies
+  count_replies();
   std::cout << "sent " << sent << std::endl;
+  std::cout << "answered " << answered << std::endl;
   return 0;
 }
 
@@ -194,7 +211,8 @@ int main(int argc, char** argv) {
         ("file://" + std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml").c_str(),
         1);
   if (worker == "huge") return HugeWorker(domain, ns, huge_points);
-  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds);
+  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds, false);
+  if (worker == "flood-same-id") return FloodWorker(domain, ns, flood_seconds, true);
 
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   const std::string build = self.parent_path().parent_path().string();
@@ -221,7 +239,18 @@ int main(int argc, char** argv) {
     Stop(monocled);
     return 1;
   }
-  for (int tries = 0; !client->measure("sim-floor", {{640, 900, std::nullopt}}); ++tries) {
+  // Ready: it answers, and its camera streams (the camera's start-up allocates its stream
+  // buffers, ~40 MB, which must not count as growth; measured before this wait).
+  const auto streaming = [&] {
+    const auto status = client->status();
+    if (!status) return false;
+    for (const auto& c : *status)
+      if (c.camera_id == "sim-floor" && c.state == monocle::CameraState::kStreaming && c.frames > 0)
+        return true;
+    return false;
+  };
+  for (int tries = 0; !client->measure("sim-floor", {{640, 900, std::nullopt}}) || !streaming();
+       ++tries) {
     if (tries == 60) {
       std::cerr << "monocled does not answer: see " << dir << "/monocled.log\n";
       Stop(monocled);
@@ -271,28 +300,40 @@ int main(int argc, char** argv) {
   waitpid(huge, nullptr, 0);
   const double huge_rss_growth = huge_watch.Stop() - rss_before_huge;
 
-  // 2. The flood.
-  Latencies during_flood;
-  double flood_rss_growth = 0;
-  if (flood_seconds > 0) {
-    const double rss_before_flood = quiet_peak();
-    RssWatch flood_watch(monocled);
-    const pid_t flood = Spawn({self.string(), "--worker", "flood", "--flood-seconds",
+  // 2. The floods: unique client ids, then one client id (a client asking as fast as it can).
+  struct Flood {
+    Latencies good;
+    double rss_growth = 0;
+    std::string sent = "0", answered = "0";
+  };
+  const auto run_flood = [&](const std::string& kind) {
+    Flood f;
+    if (flood_seconds <= 0) return f;
+    const double rss_before = quiet_peak();
+    RssWatch watch(monocled);
+    const std::string log = dir + "/" + kind + ".log";
+    const pid_t flood = Spawn({self.string(), "--worker", kind, "--flood-seconds",
                                std::to_string(flood_seconds), "--domain", std::to_string(domain)},
-                              dir + "/flood.log");
+                              log);
     std::this_thread::sleep_for(1s);  // its discovery; the flood is on from here
-    during_flood =
+    f.good =
         QueryFor(*client, std::chrono::duration_cast<Clock::duration>(
                               std::chrono::duration<double>(std::max(0.5, flood_seconds - 1.5))));
     waitpid(flood, nullptr, 0);
-    flood_rss_growth = flood_watch.Stop() - rss_before_flood;
-  }
-  std::string flood_sent;
-  {
-    std::ifstream log(dir + "/flood.log");
-    for (std::string line; std::getline(log, line);)
-      if (line.rfind("sent ", 0) == 0) flood_sent = line.substr(5);
-  }
+    f.rss_growth = watch.Stop() - rss_before;
+    std::ifstream in(log);
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("sent ", 0) == 0)
+        f.sent = line.substr(5);
+      else if (line.rfind("answered ", 0) == 0)
+        f.answered = line.substr(9);
+    return f;
+  };
+  const Flood unique_ids = run_flood("flood");
+  const Flood same_id = run_flood("flood-same-id");
+  const Latencies& during_flood = unique_ids.good;
+  const double flood_rss_growth = unique_ids.rss_growth;
+  const std::string& flood_sent = unique_ids.sent;
 
   // 3. Many clients at once.
   std::mutex m;
@@ -340,6 +381,12 @@ int main(int argc, char** argv) {
               << ",\"flood_good_lost\":" << during_flood.lost
               << ",\"flood_good_p99_ms\":" << Percentile(during_flood.ms, 0.99)
               << ",\"flood_rss_growth_mb\":" << flood_rss_growth
+              << ",\"same_id_flood_sent\":" << same_id.sent
+              << ",\"same_id_flood_answered\":" << same_id.answered
+              << ",\"same_id_flood_good_queries\":" << same_id.good.ms.size()
+              << ",\"same_id_flood_good_lost\":" << same_id.good.lost
+              << ",\"same_id_flood_good_p99_ms\":" << Percentile(same_id.good.ms, 0.99)
+              << ",\"same_id_flood_rss_growth_mb\":" << same_id.rss_growth
               << ",\"many_queries\":" << many.ms.size() << ",\"many_lost\":" << many.lost
               << ",\"many_p99_ms\":" << Percentile(many.ms, 0.99)
               << ",\"service_alive\":" << (alive ? "true" : "false") << "}\n";
@@ -357,6 +404,14 @@ int main(int argc, char** argv) {
               << " ms, p99 " << Percentile(during_flood.ms, 0.99)
               << " ms (goal: 0 lost, p99 <= 20 ms)\n"
               << std::setprecision(1) << "  monocled RSS growth " << flood_rss_growth
+              << " MB (goal <= 50)\n"
+              << "flood under one client id, " << flood_seconds << " s, " << same_id.sent
+              << " sent, " << same_id.answered << " answered (limit 5000/s):\n"
+              << "  good client: " << same_id.good.ms.size() << " answered, " << same_id.good.lost
+              << " lost, p50 " << std::setprecision(2) << Percentile(same_id.good.ms, 0.5)
+              << " ms, p99 " << Percentile(same_id.good.ms, 0.99)
+              << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+              << std::setprecision(1) << "  monocled RSS growth " << same_id.rss_growth
               << " MB (goal <= 50)\n"
               << clients << " clients x " << queries << " queries: " << many.ms.size()
               << " answered, " << many.lost << " lost, p50 " << std::setprecision(2)

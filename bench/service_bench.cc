@@ -3,7 +3,9 @@
 //      rounds of ddsperf ping-pong (Cyclone DDS's own tool) on the same machine, so both see
 //      the same load (monocled keeps processing its corner camera meanwhile);
 //   2. batched point-query throughput (points per second, requests of 100 000 points);
-//   3. frame complete -> pose received by a subscriber in another process.
+//   3. frame complete -> pose received by a subscriber in another process;
+//   4. the point-query round trip again with DDS Security on (a keystore made here with
+//      `monocle security init`, a reader client; authenticated, encrypted), beside 1.
 // Goals (issue 13): round trip p50 <= 1.0x ddsperf's and p99 <= 2x ddsperf's p99; >= 2 M
 // points/s; frame -> pose p50 <= processing time + 0.5 ms.
 //
@@ -212,6 +214,44 @@ int main(int argc, char** argv) {
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   sub->stop();
   Stop(monocled);
+
+  // 4. Secured: the same round trip against a monocled with DDS Security, by a reader client.
+  std::vector<double> secured_us;
+  {
+    const std::string keys = dir + "/keys";
+    const std::string init = build + "/client/monocle security init " + keys +
+                             " --client bench:reader >" + dir + "/security.log 2>&1";
+    if (std::system(init.c_str()) != 0) {
+      std::cerr << "monocle security init failed: see " << dir << "/security.log\n";
+      return 1;
+    }
+    const pid_t secured =
+        Spawn({build + "/service/monocled", "--domain", std::to_string(domain + 2), "--state-dir",
+               dir + "/state", "--security", keys + "/monocled"},
+              dir + "/monocled-secured.log");
+    monocle::Client::Options options;
+    options.domain = domain + 2;
+    options.timeout = std::chrono::seconds(30);
+    options.security_dir = keys + "/bench";
+    auto secured_client = monocle::Client::open(options);
+    bool ok = secured_client.ok();
+    for (int tries = 0; ok && !secured_client->measure("sim-floor", one); ++tries) {
+      if (tries == 60) ok = false;
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+    for (int i = 0; ok && i < 250 + queries; ++i) {
+      const auto start = Clock::now();
+      const auto r = secured_client->measure("sim-floor", one);
+      const double us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+      ok = r.ok();
+      if (i >= 250) secured_us.push_back(us);  // after discovery and the handshake settle
+    }
+    Stop(secured);
+    if (!ok) {
+      std::cerr << "secured point queries failed: see " << dir << "/monocled-secured.log\n";
+      return 1;
+    }
+  }
   if (!std::getenv("TIMING")) std::filesystem::remove_all(dir);
 
   const double dds_rtt_p50 = Percentile(dds_p50_us, 0.5), dds_rtt_p99 = Percentile(dds_p99_us, 0.5);
@@ -224,6 +264,9 @@ int main(int argc, char** argv) {
             << std::setprecision(2) << "  p50 = " << p50 / dds_rtt_p50
             << "x ddsperf's (goal <= 1.0x), p99 = " << p99 / dds_rtt_p99
             << "x ddsperf's p99 (goal <= 2x)\n"
+            << "  with DDS Security (reader)     p50 " << std::setprecision(1)
+            << Percentile(secured_us, 0.5) << " us  p99 " << Percentile(secured_us, 0.99)
+            << " us  over " << secured_us.size() << " requests (authenticated, encrypted)\n"
             << std::setprecision(2) << "batched point queries            " << points_per_s / 1e6
             << " M points/s  (" << batches << " requests of " << batch.size()
             << " points; goal >= 2 M/s)\n";

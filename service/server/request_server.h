@@ -68,6 +68,12 @@ class RequestServer {
   static constexpr std::chrono::milliseconds kParkedCheck{2};
   static constexpr std::chrono::milliseconds kParkedLimit{3000};
   static constexpr size_t kMaxKnownWriters = 4096;
+  // Each client (request writer) may send this many requests a second, in bursts of up to
+  // kBurst; more are dropped before any work. A robot asks 100-200 times a second, a client
+  // asking in a tight loop ~3000 (one round trip is ~0.3 ms); a client
+  // flooding under its own id gets its share and no more, so it cannot starve the others.
+  static constexpr double kMaxRequestsPerSecond = 5000;
+  static constexpr double kBurst = 500;
 
   // `cameras` must outlive the server. `handle` may run on two threads at once.
   static Result<std::unique_ptr<RequestServer>> Start(
@@ -152,34 +158,50 @@ class RequestServer {
   // id for its request writer (rmw_cyclonedds_cpp: the writer's own id; monocle's client
   // too), so a writer whose id changes between requests is not a client but a flood of
   // made-up ones: its requests after the first id are dropped before any work, and no reply
-  // (which every client's reply reader would receive and have to discard) is sent. Both
-  // logged at most once a second.
+  // (which every client's reply reader would receive and have to discard) is sent. A writer
+  // over its rate (kMaxRequestsPerSecond) is dropped too. All logged at most once a second.
   enum class Admission { kNow, kDrop };
   Admission Admit(PerCamera& pc, const dds::RequestHeader& h) {
+    const auto now = std::chrono::steady_clock::now();
     if (h.guid == 0) {
-      Warn(std::chrono::steady_clock::now(),
-           pc.camera->id + ": a request without a client id (guid 0) was dropped");
+      Warn(now, pc.camera->id + ": a request without a client id (guid 0) was dropped");
       return Admission::kDrop;
     }
+    enum { kOk, kChangedId, kOverRate } verdict = kOk;
     {
       std::lock_guard<std::mutex> lock(ids_mutex_);
       // Bounded: a long-running service forgets old writers and learns them again.
-      if (client_ids_.size() > kMaxKnownWriters) client_ids_.clear();
-      const auto [it, first] = client_ids_.emplace(h.publication, std::make_pair(h.guid, h.seq));
-      if (first) return Admission::kNow;
-      if (it->second.first == h.guid) {
-        // A client sends a request of an idempotent service (points, poses) again when no
-        // reply came (the request or the reply was lost): the newest one is answered again;
-        // a copy older than a request already taken is dropped.
-        if (h.seq < it->second.second) return Admission::kDrop;
-        it->second.second = h.seq;
-        return Admission::kNow;
+      if (clients_.size() > kMaxKnownWriters) clients_.clear();
+      const auto [it, first] =
+          clients_.try_emplace(h.publication, Client{h.guid, h.seq, kBurst, now});
+      Client& c = it->second;
+      if (!first && c.guid != h.guid) {
+        verdict = kChangedId;
+      } else {
+        c.tokens = std::min(kBurst,
+                            c.tokens + kMaxRequestsPerSecond *
+                                           std::chrono::duration<double>(now - c.refilled).count());
+        c.refilled = now;
+        if (c.tokens < 1) {
+          verdict = kOverRate;
+        } else {
+          c.tokens -= 1;
+          // A client sends a request of an idempotent service (points, poses) again when no
+          // reply came (the request or the reply was lost): the newest one is answered again;
+          // a copy older than a request already taken is dropped.
+          if (!first && h.seq < c.seq) return Admission::kDrop;
+          c.seq = h.seq;
+          return Admission::kNow;
+        }
       }
     }
-    Warn(std::chrono::steady_clock::now(),
-         pc.camera->id +
-             ": a request writer changed its client id (guid) between requests; "
-             "its requests under a new id are dropped");
+    Warn(now,
+         pc.camera->id + (verdict == kChangedId
+                              ? ": a request writer changed its client id (guid) between requests; "
+                                "its requests under a new id are dropped"
+                              : ": a client sends more than " +
+                                    std::to_string(static_cast<int>(kMaxRequestsPerSecond)) +
+                                    " requests a second; the excess is dropped"));
     return Admission::kDrop;
   }
 
@@ -302,7 +324,13 @@ class RequestServer {
   std::deque<std::pair<std::chrono::steady_clock::time_point, Incoming>> parked_;
   std::mutex ids_mutex_;
   // Request writer -> its client id and the last sequence number taken from it.
-  std::map<dds_instance_handle_t, std::pair<uint64_t, int64_t>> client_ids_;
+  struct Client {
+    uint64_t guid = 0;  // its client id
+    int64_t seq = 0;    // its newest request
+    double tokens = 0;  // requests it may still send now
+    std::chrono::steady_clock::time_point refilled;
+  };
+  std::map<dds_instance_handle_t, Client> clients_;  // by request writer
   std::mutex warn_mutex_;
   std::chrono::steady_clock::time_point last_warning_{};
   std::thread thread_;
