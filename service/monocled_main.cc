@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
     std::cerr << "monocled: error: " << service.error() << "\n";
     return 1;
   }
-  for (const auto& cam : setup->cameras) {
+  // Refused cameras were logged by Start with the reason; these are the ones served.
+  for (const auto& cam : service->get()->served_cameras()) {
     std::cerr << "monocled: camera '" << cam.id << "' (" << cam.options.device << ", "
               << monocle::ToString(cam.role) << ", calibration " << cam.calibration_path
               << "; ROS 2 " << cam.ros_namespace << "/{"

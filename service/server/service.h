@@ -44,6 +44,9 @@ class Service {
   void Stop();
   // This monocled on the domain: host/pid.
   const std::string& id() const { return service_id_; }
+  // The cameras it serves: the configuration's, less those refused at start (another
+  // monocled on the domain already serves their namespace).
+  const std::vector<CameraSetup>& served_cameras() const { return setup_.cameras; }
 
  private:
   Service() = default;

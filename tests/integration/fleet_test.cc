@@ -155,6 +155,11 @@ TEST(FleetTest, ANewcomerRefusesANamespaceAlreadyServed) {
       << refused->last_error;
   EXPECT_NE(ReadFile(b / "monocled.log").find("already served by monocled"), std::string::npos)
       << ReadFile(b / "monocled.log");
+  // Its start-up list of served cameras (with their ROS 2 services) leaves the refused out.
+  EXPECT_EQ(ReadFile(b / "monocled.log").find("ROS 2 /robot1/monocle/front/{"), std::string::npos)
+      << ReadFile(b / "monocled.log");
+  EXPECT_NE(ReadFile(a / "monocled.log").find("ROS 2 /robot1/monocle/front/{"), std::string::npos)
+      << ReadFile(a / "monocled.log");
   EXPECT_EQ(DuplicateCameras(cameras), "");
 
   // Every answer comes from the first service's calibration (1.05 m), none from the
