@@ -105,7 +105,8 @@ Result<ImageHeader> Tiff(std::string_view b) {
     if (e + 12 > b.size()) return BadHeader("TIFF", "points past the end of the file");
     const uint32_t tag = read(e, 2), type = read(e + 2, 2);
     if (tag != 256 && tag != 257) continue;
-    size[tag - 256] = type == 3 ? read(e + 8, 2) : read(e + 8, 4);  // SHORT or LONG
+    // The first of repeated tags counts, as libtiff reads them (found by image_fuzz).
+    if (size[tag - 256] == 0) size[tag - 256] = type == 3 ? read(e + 8, 2) : read(e + 8, 4);
   }
   if (size[0] == 0 || size[1] == 0) return BadHeader("TIFF", "has no width and height");
   return ImageHeader{"TIFF", size[0], size[1]};
@@ -157,6 +158,16 @@ Result<cv::Mat> ReadGreyImageFile(const std::string& path) {
     return MakeError(
         ErrorCode::kInvalidArgument,
         "cannot read image '" + path + "': its " + header->format + " data is broken or cut short");
+  }
+  // The header's size is what the limit was checked against: a file whose data decodes to
+  // another size is refused (a header this reader misread must not let a larger image by).
+  if (static_cast<uint64_t>(image.cols) != header->width_px ||
+      static_cast<uint64_t>(image.rows) != header->height_px) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "cannot read image '" + path + "': its " + header->format + " header says " +
+                         std::to_string(header->width_px) + " x " +
+                         std::to_string(header->height_px) + " pixels but its data decodes to " +
+                         std::to_string(image.cols) + " x " + std::to_string(image.rows));
   }
   if (image.depth() != CV_8U) image.convertTo(image, CV_8U, 1.0 / 256);
   return image;

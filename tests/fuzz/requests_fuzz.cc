@@ -41,7 +41,8 @@ struct Decoded {
 // The receive path: CDR checked (bounds, string terminators, sequence lengths) and decoded.
 template <typename Sample>
 bool Decode(std::vector<unsigned char> cdr, Decoded<Sample>* out) {
-  if (cdr.size() > (1u << 24)) return false;
+  // Cyclone hands on no empty payload (a sample has at least its encapsulation header).
+  if (cdr.empty() || cdr.size() > (1u << 24)) return false;
   uint32_t end = 0;
   const auto size = static_cast<uint32_t>(cdr.size());
   if (dds_stream_normalize_data(reinterpret_cast<char*>(cdr.data()), &end, size, false,
