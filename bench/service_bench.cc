@@ -235,7 +235,12 @@ int main(int argc, char** argv) {
     options.security_dir = keys + "/bench";
     auto secured_client = monocle::Client::open(options);
     bool ok = secured_client.ok();
-    for (int tries = 0; ok && !secured_client->measure("sim-floor", one); ++tries) {
+    // Ready as above: the corner camera streams (its rendering is over) and points answer.
+    const auto ready = [&] {
+      return secured_client->pose("sim-corner", monocle::PoseWhich::kNextFrame).ok() &&
+             secured_client->measure("sim-floor", one).ok();
+    };
+    for (int tries = 0; ok && !ready(); ++tries) {
       if (tries == 60) ok = false;
       std::this_thread::sleep_for(std::chrono::seconds(1));
     }
