@@ -93,7 +93,8 @@ TEST(ConvertTest, StatusAndCalibrationRoundTrip) {
   c.last_error_ns = 55;
   c.stamp_ns = 1'000'000'007;
   monocle_msgs_msg_dds__CameraStatus_ s;
-  ToSample(c, "floor_optical", &s);
+  const std::string frame = "floor_optical";  // the sample points into it (ASan found a temporary)
+  ToSample(c, frame, &s);
   EXPECT_STREQ(s.header.frame_id, "floor_optical");
   const CameraStatus b = FromSample(s);
   EXPECT_EQ(b.camera_id, c.camera_id);

@@ -14,7 +14,9 @@ cleanup() {
 trap cleanup EXIT
 
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
-cmake -S "$src/client/examples" -B "$work/example" -G Ninja -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
+# A sanitizer build's library needs the same runtime in the program (scripts/test --sanitize).
+cmake -S "$src/client/examples" -B "$work/example" -G Ninja -DCMAKE_PREFIX_PATH="$work/prefix" \
+  "-DCMAKE_CXX_FLAGS=${MONOCLE_CXX_FLAGS:-}" "-DCMAKE_EXE_LINKER_FLAGS=${MONOCLE_LINKER_FLAGS:-}" >/dev/null
 cmake --build "$work/example" >/dev/null
 
 export CYCLONEDDS_URI="file://$src/docker/cyclonedds-loopback.xml"

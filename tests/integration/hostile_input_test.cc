@@ -15,6 +15,12 @@ namespace {
 using testing::ReadFile;
 using testing::TempDir;
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 double Field(const std::string& json, const std::string& key) {
   const std::regex re("\"" + key + "\":([-0-9.]+|true|false)");
   std::smatch m;
@@ -40,10 +46,16 @@ TEST(HostileInputTest, AHugeRequestCostsNoMemoryAndTheServiceKeepsAnswering) {
   const std::string out = ReadFile(dir / "out.json");
   ASSERT_EQ(status, 0) << out << ReadFile(dir / "err.txt");
   EXPECT_EQ(Field(out, "good_after_huge_ok"), 1) << out;
-  EXPECT_LE(Field(out, "huge_rss_growth_mb"), 20) << out;
+  // AddressSanitizer keeps freed memory in quarantine (256 MB) on purpose: memory figures
+  // mean nothing in that build (scripts/test --sanitize address); everything else holds.
+  if (!kAddressSanitizer) {
+    EXPECT_LE(Field(out, "huge_rss_growth_mb"), 20) << out;
+  }
   EXPECT_EQ(Field(out, "flood_good_lost"), 0) << out;
   EXPECT_GT(Field(out, "flood_good_queries"), 0) << out;
-  EXPECT_LE(Field(out, "flood_rss_growth_mb"), 50) << out;
+  if (!kAddressSanitizer) {
+    EXPECT_LE(Field(out, "flood_rss_growth_mb"), 50) << out;
+  }
   EXPECT_EQ(Field(out, "same_id_flood_good_lost"), 0) << out;
   EXPECT_GT(Field(out, "same_id_flood_good_queries"), 0) << out;
   // 5000 requests a second and a burst of 500 (RequestServer): over the 3 s flood (and the

@@ -53,8 +53,9 @@ class PoseStreamTest : public ::testing::Test {
                                  std::to_string(kTrajectoryFrames), "--truth", dir_ / "truth.jsonl",
                                  "--calibration-out", dir_ / "sim.pbtxt"},
         dir_ / "simcam.log");
-    // simcam serves right after writing its calibration file.
-    for (int i = 0; i < 200 && !std::ifstream(dir_ / "sim.pbtxt"); ++i)
+    // simcam serves right after writing its calibration file (rendering first: up to a
+    // minute in a sanitizer build).
+    for (int i = 0; i < 1200 && !std::ifstream(dir_ / "sim.pbtxt"); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     ASSERT_TRUE(std::ifstream(dir_ / "sim.pbtxt").good()) << testing::ReadFile(dir_ / "simcam.log");
     truth_ = ReadTruth(dir_ / "truth.jsonl");
@@ -65,6 +66,7 @@ camera { id: "ceiling" device: "127.0.0.1" role: CORNER calibration: "sim.pbtxt"
 )");
   }
   void TearDown() override {
+    if (!monocled_) return;  // SetUp failed before starting it
     EXPECT_EQ(monocled_->Stop(), 0)
         << "monocled stops cleanly on SIGTERM: " << testing::ReadFile(dir_ / "monocled.log");
     EXPECT_EQ(simcam_->Stop(), 0);
