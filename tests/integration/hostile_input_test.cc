@@ -15,12 +15,6 @@ namespace {
 using testing::ReadFile;
 using testing::TempDir;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-
 double Field(const std::string& json, const std::string& key) {
   const std::regex re("\"" + key + "\":([-0-9.]+|true|false)");
   std::smatch m;
@@ -46,14 +40,12 @@ TEST(HostileInputTest, AHugeRequestCostsNoMemoryAndTheServiceKeepsAnswering) {
   const std::string out = ReadFile(dir / "out.json");
   ASSERT_EQ(status, 0) << out << ReadFile(dir / "err.txt");
   EXPECT_EQ(Field(out, "good_after_huge_ok"), 1) << out;
-  // AddressSanitizer keeps freed memory in quarantine (256 MB) on purpose: memory figures
-  // mean nothing in that build (scripts/test --sanitize address); everything else holds.
-  if (!kAddressSanitizer) {
+  if (!testing::kUnderAddressSanitizer) {
     EXPECT_LE(Field(out, "huge_rss_growth_mb"), 20) << out;
   }
   EXPECT_EQ(Field(out, "flood_good_lost"), 0) << out;
   EXPECT_GT(Field(out, "flood_good_queries"), 0) << out;
-  if (!kAddressSanitizer) {
+  if (!testing::kUnderAddressSanitizer) {
     EXPECT_LE(Field(out, "flood_rss_growth_mb"), 50) << out;
   }
   EXPECT_EQ(Field(out, "same_id_flood_good_lost"), 0) << out;
