@@ -15,6 +15,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -164,7 +165,8 @@ class RequestServer {
   Admission Admit(PerCamera& pc, const dds::RequestHeader& h) {
     const auto now = std::chrono::steady_clock::now();
     if (h.guid == 0) {
-      Warn(now, pc.camera->id + ": a request without a client id (guid 0) was dropped");
+      Warn(now,
+           [&] { return pc.camera->id + ": a request without a client id (guid 0) was dropped"; });
       return Admission::kDrop;
     }
     enum { kOk, kChangedId, kOverRate } verdict = kOk;
@@ -195,21 +197,30 @@ class RequestServer {
         }
       }
     }
-    Warn(now,
-         pc.camera->id + (verdict == kChangedId
-                              ? ": a request writer changed its client id (guid) between requests; "
-                                "its requests under a new id are dropped"
-                              : ": a client sends more than " +
-                                    std::to_string(static_cast<int>(kMaxRequestsPerSecond)) +
-                                    " requests a second; the excess is dropped"));
+    Warn(now, [&] {
+      return pc.camera->id +
+             (verdict == kChangedId
+                  ? ": a request writer changed its client id (guid) between requests; "
+                    "its requests under a new id are dropped"
+                  : ": a client sends more than " +
+                        std::to_string(static_cast<int>(kMaxRequestsPerSecond)) +
+                        " requests a second; the excess is dropped");
+    });
     return Admission::kDrop;
   }
 
-  void Warn(std::chrono::steady_clock::time_point now, const std::string& what) {
+  // Logs at most once a second. `what` is a string or a callable making it: a flood's drops
+  // call this for every request, and only a logged message is worth building.
+  template <typename What>
+  void Warn(std::chrono::steady_clock::time_point now, const What& what) {
     std::lock_guard<std::mutex> lock(warn_mutex_);
     if (now - last_warning_ < std::chrono::seconds(1)) return;
     last_warning_ = now;
-    std::cerr << "monocled: " << what << "\n";
+    if constexpr (std::is_invocable_v<What>) {
+      std::cerr << "monocled: " << what() << "\n";
+    } else {
+      std::cerr << "monocled: " << what << "\n";
+    }
   }
 
   // Under mutex_.

@@ -56,6 +56,13 @@ bool Decode(std::vector<unsigned char> cdr, Decoded<Sample>* out) {
   return true;
 }
 
+// The rest of the fuzz bytes as a received sample's CDR body.
+template <typename Sample>
+bool DecodeRest(fuzz::Bytes& in, Decoded<Sample>* out) {
+  const std::string rest = in.Rest();
+  return Decode(std::vector<unsigned char>(rest.begin(), rest.end()), out);
+}
+
 // The send path: the sample as the writer serializes it.
 template <typename Sample>
 std::vector<unsigned char> Encode(const Sample& s, const dds_topic_descriptor_t* desc) {
@@ -120,8 +127,7 @@ void PointRequest(fuzz::Bytes& in, bool raw) {
   Decoded<monocle_msgs_srv_dds__MeasurePoints_Request_> request(
       &monocle_msgs_srv_dds__MeasurePoints_Request__desc);
   if (raw) {
-    const std::string rest = in.Rest();
-    if (!Decode(std::vector<unsigned char>(rest.begin(), rest.end()), &request)) return;
+    if (!DecodeRest(in, &request)) return;
   } else {
     std::vector<double> cols[4];
     const size_t n = in.Byte() % 40;
@@ -160,8 +166,7 @@ void PoseRequest(fuzz::Bytes& in, bool raw) {
   Decoded<monocle_msgs_srv_dds__GetPose_Request_> request(
       &monocle_msgs_srv_dds__GetPose_Request__desc);
   if (raw) {
-    const std::string rest = in.Rest();
-    if (!Decode(std::vector<unsigned char>(rest.begin(), rest.end()), &request)) return;
+    if (!DecodeRest(in, &request)) return;
   } else {
     monocle_msgs_srv_dds__GetPose_Request_ built{};
     built.guid = in.U64();
@@ -198,8 +203,7 @@ void FloorCalibrationRequest(fuzz::Bytes& in, bool raw) {
   Decoded<monocle_msgs_srv_dds__CalibrateFloor_Request_> request(
       &monocle_msgs_srv_dds__CalibrateFloor_Request__desc);
   if (raw) {
-    const std::string rest = in.Rest();
-    if (!Decode(std::vector<unsigned char>(rest.begin(), rest.end()), &request)) return;
+    if (!DecodeRest(in, &request)) return;
   } else {
     monocle_msgs_srv_dds__CalibrateFloor_Request_ built{};
     built.board_cols = in.Byte() % 2 ? in.I32() : in.Byte() % 16;
