@@ -1,0 +1,93 @@
+// Reads an MCAP file (mcap_format.h). A complete file is summarised from its summary section
+// alone (schemas, channels, statistics, chunk index: no chunk is read); a file that was cut
+// short (a recorder killed, a full disk) has no footer and is summarised by one linear scan
+// that keeps every complete chunk and says what it dropped. Nothing in the file is trusted:
+// every length is checked against the file before anything is allocated.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "service/common/result.h"
+
+namespace monocle::mcap {
+
+struct SchemaInfo {
+  uint16_t id = 0;
+  std::string name;      // e.g. geometry_msgs/msg/PoseWithCovarianceStamped
+  std::string encoding;  // e.g. ros2msg
+  std::string data;
+};
+
+struct ChannelInfo {
+  uint16_t id = 0;
+  uint16_t schema_id = 0;
+  std::string topic;
+  std::string message_encoding;  // e.g. cdr
+  std::map<std::string, std::string> metadata;
+};
+
+struct Summary {
+  std::string profile, library;
+  std::map<uint16_t, SchemaInfo> schemas;
+  std::map<uint16_t, ChannelInfo> channels;
+  uint64_t message_count = 0;
+  std::map<uint16_t, uint64_t> channel_message_counts;
+  uint64_t start_time_ns = 0, end_time_ns = 0;  // log times; 0 with no messages
+  uint64_t chunk_count = 0;
+  uint64_t file_bytes = 0;
+  bool from_index = false;  // read from the summary section, without reading any chunk
+  // A file without a valid footer: what the linear scan kept and dropped.
+  bool recovered = false;
+  std::string recovery_note;
+};
+
+struct Message {
+  uint16_t channel_id = 0;
+  uint32_t sequence = 0;
+  uint64_t log_time_ns = 0;
+  uint64_t publish_time_ns = 0;
+  std::string_view data;  // valid during the callback only
+};
+
+class Reader {
+ public:
+  // Opens `path` and reads its summary (from the index, or by a scan if the file was cut
+  // short). Errors name the file and the byte offset of the first record that is wrong.
+  static Result<Reader> Open(const std::string& path);
+  Reader(Reader&&) noexcept;
+  Reader& operator=(Reader&&) noexcept;
+  ~Reader();
+
+  const Summary& summary() const { return summary_; }
+
+  // Every message in file order; `visit` returns false to stop. Only complete chunks of a
+  // cut-short file are visited.
+  Status ForEachMessage(const std::function<bool(const ChannelInfo&, const Message&)>& visit);
+
+  // How many chunks were decompressed or scanned so far (0 after Open of a complete file).
+  uint64_t chunks_read() const { return chunks_read_; }
+
+ private:
+  Reader() = default;
+  Status ReadHeader();
+  Status ReadSummaryFromIndex(uint64_t summary_start);
+  Status ScanAll(bool collect_summary,
+                 const std::function<bool(const ChannelInfo&, const Message&)>* visit);
+  Result<std::string> ReadAt(uint64_t offset, uint64_t length) const;
+  Result<std::string> ChunkRecords(std::string_view chunk_content, uint64_t offset);
+  Error Malformed(uint64_t offset, const std::string& what) const;
+
+  int fd_ = -1;
+  std::string path_;
+  uint64_t size_ = 0;
+  uint64_t data_start_ = 0;  // after magic and header
+  Summary summary_;
+  uint64_t chunks_read_ = 0;
+};
+
+}  // namespace monocle::mcap
