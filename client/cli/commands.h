@@ -26,6 +26,9 @@ int RenderCommand(const std::vector<std::string>& args);
 int RenderBoards(const std::vector<std::string>& args);  // render boards
 // The running service's cameras (over DDS).
 int StatusCommand(const std::vector<std::string>& args);
+// MCAP recordings: record (over DDS), info.
+int RecordCommand(const std::vector<std::string>& args);
+int InfoCommand(const std::vector<std::string>& args);
 // DDS Security keystores (security init).
 int SecurityCommand(const std::vector<std::string>& args);
 

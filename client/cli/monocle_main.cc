@@ -44,6 +44,9 @@ Live, from the running service (monocled) over DDS [--domain D] [--timeout S] [-
   status [--watch] [--json]
       The service's cameras: state, fps, dropped frames, latency, last error.
 
+  record --out FILE.mcap [--camera ID]... [--frames none|every|N] [--duration S] [--zstd]
+      Records the service's poses, calibrations, status, requests, replies and frames (MCAP).
+
   security init DIR [--client NAME[:reader|operator]]...
       A DDS Security keystore: a CA, identities for monocled and each client, permissions.
 
@@ -51,6 +54,8 @@ Live, from the running service (monocled) over DDS [--domain D] [--timeout S] [-
       Lists the GigE Vision and USB3 Vision cameras Aravis sees.
   snapshot CAMERA --out IMG.png
       Grabs one frame from a camera given by id, IP address or serial.
+  info FILE.mcap [--json]
+      What a recording holds: time span, cameras, messages per topic.
   simcam --scene corner|floor [--ip 127.0.0.1] [--width W --height H --fps F] [--truth FILE]
       Serves a simulated GigE Vision camera whose frames are rendered scenes.
 
@@ -81,6 +86,8 @@ int main(int argc, char** argv) {
   if (command == "render") return monocle::cli::RenderCommand(rest);
   if (command == "status") return monocle::cli::StatusCommand(rest);
   if (command == "security") return monocle::cli::SecurityCommand(rest);
+  if (command == "record") return monocle::cli::RecordCommand(rest);
+  if (command == "info") return monocle::cli::InfoCommand(rest);
   if (command == "--version") {
     std::cout << "monocle 0.1.0\n";
     return 0;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -113,6 +114,21 @@ class ChildProcess {
     return status_;
   }
   pid_t pid() const { return pid_; }
+
+  // Waits up to `limit` for it to exit by itself: its exit status (-1 if it did not exit
+  // normally), or nullopt if it is still running.
+  std::optional<int> WaitFor(std::chrono::milliseconds limit) {
+    if (pid_ <= 0) return status_;
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    int status = 0;
+    while (waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) return std::nullopt;
+      usleep(10000);
+    }
+    pid_ = -1;
+    status_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return status_;
+  }
 
   // Its exit status (-1 if it did not exit normally).
   int Stop() {

@@ -1,0 +1,286 @@
+// monocle record: the running service's topics into an MCAP file; monocle info: what a
+// recording holds, from its index (or recovered from a file cut short).
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <ctime>
+#include <iomanip>
+#include <iostream>
+#include <set>
+#include <sstream>
+
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "client/cli/live.h"
+#include "client/record/recorder.h"
+#include "service/io/mcap_reader.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr const char* kRecordHelp =
+    R"(Usage: monocle record --out FILE.mcap [--camera ID]... [--frames none|every|N]
+                      [--duration S] [--zstd] [--domain D] [--timeout S] [--security DIR]
+
+Records what the running service publishes into an MCAP file (ROS 2's bag format; Foxglove
+and `ros2 bag` open it): per camera its corner poses, poses, camera info, frames and the
+requests and replies of its services, and for all cameras their status, calibrations, /tf,
+/tf_static and /diagnostics. Messages are stored as they travelled (CDR) with their ROS 2
+message definitions. Runs until Ctrl-C, SIGTERM or --duration; the file is then closed with
+its index. A file cut short (power loss, SIGKILL) keeps every complete chunk: `monocle info`
+recovers it.
+
+  --out FILE.mcap   the recording (overwritten)
+  --camera ID       a camera to record (repeatable; default every camera on the domain)
+  --frames MODE     none (default), every frame, or every Nth frame the service sends. The
+                    service sends frames at most at its camera's image_max_rate_hz
+                    (configuration, default 5 Hz); raise it to record every frame.
+  --duration S      stop after S seconds (default: until Ctrl-C)
+  --zstd            compress the file losslessly (zstd chunks)
+  --domain D        DDS domain id (default 0)
+  --timeout S       wait up to S seconds for the service's cameras (default 10)
+  --security DIR    this client's identity of a secured service's keystore
+
+On a terminal it shows messages and bytes per topic as it records; otherwise it is quiet.
+Exit status 1 if the recording stopped early (e.g. the disk is full; the file stays readable).
+)";
+
+constexpr const char* kInfoHelp = R"(Usage: monocle info FILE.mcap [--json]
+
+What a recording holds: its time span, cameras, and per topic the message type and count. A
+closed file is summarised from its index without reading the messages; a file cut short
+(recorder killed, disk full) is scanned, and what was kept is said.
+)";
+
+std::string Megabytes(uint64_t bytes) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << bytes / 1e6 << " MB";
+  return s.str();
+}
+
+std::string UtcTime(uint64_t ns) {
+  const std::time_t t = static_cast<std::time_t>(ns / 1000000000ull);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  std::ostringstream s;
+  s << std::put_time(&tm, "%Y-%m-%d %H:%M:%S") << '.' << std::setw(3) << std::setfill('0')
+    << (ns / 1000000ull) % 1000 << " UTC";
+  return s.str();
+}
+
+// The progress block on a terminal: rewritten in place.
+class Progress {
+ public:
+  void Show(double elapsed_s, const record::Recorder& recorder) {
+    std::ostringstream out;
+    if (lines_ > 0) out << "\033[" << lines_ << "A";  // back to the block's first line
+    int lines = 0;
+    out << "\033[2Krecording " << std::fixed << std::setprecision(1) << elapsed_s << " s, "
+        << Megabytes(recorder.file_bytes()) << " written  (Ctrl-C to stop)\n";
+    ++lines;
+    for (const record::TopicStats& t : recorder.stats()) {
+      if (t.messages == 0) continue;
+      out << "\033[2K  " << std::left << std::setw(44) << t.topic << std::right << std::setw(9)
+          << t.messages << " msgs " << std::setw(10) << Megabytes(t.bytes) << "\n";
+      ++lines;
+    }
+    // Lines from an earlier, longer block (never: topics only appear) are left as they are.
+    lines_ = lines;
+    std::cerr << out.str() << std::flush;
+  }
+
+ private:
+  int lines_ = 0;
+};
+
+}  // namespace
+
+int RecordCommand(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kRecordHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(
+      argv, {{"--out", "--camera", "--frames", "--duration", "--domain", "--timeout", "--security"},
+             {"--zstd"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (!args->positionals().empty()) {
+    return Fail("record takes no positional arguments (see --help)", kExitUsage);
+  }
+  const auto out = args->Require("--out");
+  if (!out) return Fail(out.error(), kExitUsage);
+  record::RecordOptions options;
+  options.zstd = args->Has("--zstd");
+  const std::string frames = args->Get("--frames").value_or("none");
+  if (frames == "none") {
+    options.frames_every = 0;
+  } else if (frames == "every") {
+    options.frames_every = 1;
+  } else if (auto n = ParseDouble(frames); n && *n >= 1 && *n <= 1e6 && *n == std::floor(*n)) {
+    options.frames_every = static_cast<int>(*n);
+  } else {
+    return Fail("--frames must be none, every, or a whole number N >= 1 (every Nth frame)",
+                kExitUsage);
+  }
+  const auto duration_s = args->GetDouble("--duration", 0);
+  if (!duration_s || *duration_s < 0) {
+    return Fail("--duration must be a positive number of seconds", kExitUsage);
+  }
+
+  // Ctrl-C and SIGTERM end the recording cleanly: blocked before any thread starts, waited
+  // for below. A file size limit (SIGXFSZ) must end the recording with its summary, not kill.
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+  std::signal(SIGXFSZ, SIG_IGN);
+
+  int exit_status = kExitOk;
+  auto client = OpenClient(*args, &exit_status);
+  if (!client) return exit_status;
+  const auto cameras = client->status();
+  if (!cameras) return Fail(cameras.error());
+  const std::vector<std::string> wanted = args->GetAll("--camera");
+  std::set<std::string> namespaces;
+  for (const std::string& id : wanted) {
+    bool found = false;
+    for (const CameraStatus& c : *cameras) {
+      if (c.camera_id == id || c.ros_namespace == id) {
+        namespaces.insert(c.ros_namespace);
+        found = true;
+      }
+    }
+    if (!found) {
+      std::string known;
+      for (const CameraStatus& c : *cameras) known += (known.empty() ? "" : ", ") + c.camera_id;
+      return Fail("no camera '" + id +
+                      "' on the domain (cameras: " + (known.empty() ? "none" : known) + ")",
+                  kExitFailure);
+    }
+  }
+  if (wanted.empty()) {
+    for (const CameraStatus& c : *cameras) namespaces.insert(c.ros_namespace);
+  }
+  options.namespaces.assign(namespaces.begin(), namespaces.end());
+
+  const int domain = static_cast<int>(*args->GetDouble("--domain", 0));
+  std::string security = args->Get("--security").value_or("");
+  if (security.empty()) {
+    if (const char* env = std::getenv("MONOCLE_SECURITY")) security = env;
+  }
+  auto participant = dds::CreateParticipant(domain, security);
+  if (!participant) return Fail(participant.error(), kExitFailure);
+  auto recorder = record::Recorder::Start(*participant, *out, options);
+  if (!recorder) return Fail(recorder.error(), kExitFailure);
+  for (const std::string& s : (*recorder)->skipped()) {
+    std::cerr << "monocle: warning: not recorded: " << s << "\n";
+  }
+
+  const bool tty = ::isatty(STDERR_FILENO) == 1;
+  Progress progress;
+  const auto start = std::chrono::steady_clock::now();
+  while (true) {
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (tty) progress.Show(elapsed, **recorder);
+    if ((*duration_s > 0 && elapsed >= *duration_s) || (*recorder)->error()) break;
+    double wait_s = 0.5;
+    if (*duration_s > 0) wait_s = std::min(wait_s, *duration_s - elapsed);
+    const timespec wait{static_cast<time_t>(wait_s),
+                        static_cast<long>((wait_s - std::floor(wait_s)) * 1e9)};
+    if (sigtimedwait(&stop, nullptr, &wait) > 0) break;
+  }
+  const Status finished = (*recorder)->Finish();
+  if (tty) {
+    progress.Show(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                  **recorder);
+  }
+  if (!finished) {
+    return Fail(finished.error().message + "; " + *out + " holds everything before it",
+                kExitFailure);
+  }
+  if (tty) std::cerr << "recorded " << *out << "\n";
+  return kExitOk;
+}
+
+int InfoCommand(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kInfoHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(argv, {{}, {"--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->positionals().size() != 1) {
+    return Fail("info takes one recording (monocle info FILE.mcap)", kExitUsage);
+  }
+  const std::string path = args->positionals()[0];
+  auto reader = mcap::Reader::Open(path);
+  if (!reader) return Fail(reader.error(), kExitFailure);
+  const mcap::Summary& s = reader->summary();
+  // Cameras: the namespaces of per-camera topics.
+  std::set<std::string> cameras;
+  for (const auto& [id, ch] : s.channels) {
+    for (const char* leaf : {"/corner_pose", "/camera_info"}) {
+      const std::string l(leaf);
+      if (ch.topic.size() > l.size() && ch.topic.ends_with(l)) {
+        cameras.insert(ch.topic.substr(0, ch.topic.size() - l.size()));
+      }
+    }
+  }
+  auto count_of = [&](uint16_t id) {
+    const auto it = s.channel_message_counts.find(id);
+    return it == s.channel_message_counts.end() ? uint64_t{0} : it->second;
+  };
+  auto schema_of = [&](uint16_t id) -> std::string {
+    const auto it = s.schemas.find(id);
+    return it == s.schemas.end() ? "" : it->second.name;
+  };
+  const double duration_s =
+      s.message_count > 0 ? static_cast<double>(s.end_time_ns - s.start_time_ns) / 1e9 : 0;
+  if (args->Has("--json")) {
+    std::ostringstream j;
+    j << "{\"file\":\"" << path << "\",\"bytes\":" << s.file_bytes << ",\"profile\":\"" << s.profile
+      << "\",\"library\":\"" << s.library << "\",\"messages\":" << s.message_count
+      << ",\"chunks\":" << s.chunk_count << ",\"start_ns\":" << s.start_time_ns
+      << ",\"end_ns\":" << s.end_time_ns << ",\"from_index\":" << (s.from_index ? "true" : "false")
+      << ",\"recovered\":" << (s.recovered ? "true" : "false") << ",\"cameras\":[";
+    bool first = true;
+    for (const std::string& c : cameras) {
+      j << (first ? "" : ",") << "\"" << c << "\"";
+      first = false;
+    }
+    j << "],\"topics\":[";
+    first = true;
+    for (const auto& [id, ch] : s.channels) {
+      j << (first ? "" : ",") << "{\"topic\":\"" << ch.topic << "\",\"type\":\""
+        << schema_of(ch.schema_id) << "\",\"messages\":" << count_of(id) << "}";
+      first = false;
+    }
+    j << "]}";
+    std::cout << j.str() << "\n";
+    return kExitOk;
+  }
+  std::cout << "file:      " << path << " (" << Megabytes(s.file_bytes) << ", " << s.chunk_count
+            << " chunks, written by " << s.library << ")\n";
+  if (s.recovered) {
+    std::cout << "recovered: " << s.recovery_note << "\n";
+  }
+  if (s.message_count > 0) {
+    std::cout << "start:     " << UtcTime(s.start_time_ns)
+              << "\nend:       " << UtcTime(s.end_time_ns) << "\nduration:  " << std::fixed
+              << std::setprecision(3) << duration_s << " s\n";
+  }
+  std::cout << "messages:  " << s.message_count << "\ncameras:  ";
+  for (const std::string& c : cameras) std::cout << " " << c;
+  std::cout << (cameras.empty() ? " none\n" : "\n") << "topics:\n";
+  for (const auto& [id, ch] : s.channels) {
+    std::cout << "  " << std::left << std::setw(44) << ch.topic << std::setw(46)
+              << schema_of(ch.schema_id) << std::right << std::setw(8) << count_of(id) << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace monocle::cli
