@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,22 @@ inline pid_t Spawn(const std::vector<std::string>& args, const std::string& log)
     _exit(127);
   }
   return pid;
+}
+
+// User + system CPU seconds of `pid` so far (/proc/PID/stat fields 14 and 15).
+inline double CpuSeconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(in, line);
+  if (line.empty()) return 0;
+  std::istringstream fields(line.substr(line.rfind(')') + 2));
+  std::string f;
+  long utime = 0, stime = 0;
+  for (int i = 3; i <= 15 && fields >> f; ++i) {
+    if (i == 14) utime = std::stol(f);
+    if (i == 15) stime = std::stol(f);
+  }
+  return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
 }
 
 inline void Stop(pid_t pid) {

@@ -23,27 +23,13 @@
 
 #include <dds/dds.h>
 
+#include "bench/bench_process.h"
 #include "idl/ros2_messages.h"
 
 namespace {
 
-// User + system CPU seconds of `pid` so far (/proc/PID/stat fields 14 and 15).
-double CpuSeconds(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string line;
-  std::getline(in, line);
-  std::istringstream fields(line.substr(line.rfind(')') + 2));
-  std::string f;
-  long utime = 0, stime = 0;
-  for (int i = 3; i <= 15 && fields >> f; ++i) {
-    if (i == 14) utime = std::stol(f);
-    if (i == 15) stime = std::stol(f);
-  }
-  return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
-}
-
 double CpuPerSecondOver(pid_t pid, int seconds, const std::function<void()>& during) {
-  const double before = CpuSeconds(pid);
+  const double before = monocle::bench::CpuSeconds(pid);
   const auto t0 = std::chrono::steady_clock::now();
   const auto end = t0 + std::chrono::seconds(seconds);
   while (std::chrono::steady_clock::now() < end) {
@@ -51,7 +37,7 @@ double CpuPerSecondOver(pid_t pid, int seconds, const std::function<void()>& dur
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return (CpuSeconds(pid) - before) / wall;
+  return (monocle::bench::CpuSeconds(pid) - before) / wall;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <malloc.h>
 #include <signal.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "client/protocol/dds.h"
+#include "client/record/recorder.h"
 #include "service/server/service.h"
 #include "service/server/service_config.h"
 
@@ -17,6 +19,7 @@ namespace {
 
 constexpr const char* kUsage =
     R"(Usage: monocled [--config FILE.pbtxt] [--domain D] [--security DIR] [--state-dir DIR]
+                [--record FILE.mcap [--record-frames none|every|N] [--record-zstd]]
                 [--print-config]
 
 The monocle service: measures robot poses from ceiling corners and floor points from its
@@ -32,6 +35,13 @@ cameras and serves them over Cyclone DDS (topics in the README, "The service ove
                    `monocle security init` (overrides the configuration's security_dir)
   --state-dir DIR  where the embedded default keeps its calibration files (default
                    $XDG_STATE_HOME/monocle, else ~/.local/state/monocle)
+  --record FILE.mcap  record what the service publishes (poses, calibrations, status,
+                   requests and replies, frames) into an MCAP file, in-process; the file is
+                   closed with its index at stop. A full disk stops the recording (logged),
+                   never the service. Same content as `monocle record`.
+  --record-frames MODE  none (default), every frame, or every Nth. Frames are recorded at
+                   the camera's rate: this lifts image_max_rate_hz of the recorded cameras.
+  --record-zstd    compress the recording losslessly (zstd chunks)
   --print-config   print the embedded default configuration and exit
 
 CYCLONEDDS_URI configures Cyclone DDS (docker/cyclonedds-loopback.xml: loopback only).
@@ -76,6 +86,8 @@ int main(int argc, char** argv) {
   std::string config_path, state_dir = DefaultStateDir();
   std::optional<int> domain;
   std::string security_dir;
+  std::string record_path;
+  monocle::record::RecordOptions record_options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -96,7 +108,25 @@ int main(int argc, char** argv) {
       const long d = std::strtol(argv[++i], &end, 10);
       if (*end != '\0' || d < 0 || d > 232) return Usage("--domain must be 0..232");
       domain = static_cast<int>(d);
-    } else if (a == "--config" || a == "--state-dir" || a == "--domain" || a == "--security") {
+    } else if (a == "--record" && has_value) {
+      record_path = argv[++i];
+    } else if (a == "--record-zstd") {
+      record_options.zstd = true;
+    } else if (a == "--record-frames" && has_value) {
+      const std::string mode = argv[++i];
+      char* end = nullptr;
+      const long n = std::strtol(mode.c_str(), &end, 10);
+      if (mode == "none") {
+        record_options.frames_every = 0;
+      } else if (mode == "every") {
+        record_options.frames_every = 1;
+      } else if (!mode.empty() && *end == '\0' && n >= 1 && n <= 1000000) {
+        record_options.frames_every = static_cast<int>(n);
+      } else {
+        return Usage("--record-frames must be none, every or a whole number N >= 1");
+      }
+    } else if (a == "--config" || a == "--state-dir" || a == "--domain" || a == "--security" ||
+               a == "--record" || a == "--record-frames") {
       return Usage(a + " needs a value");
     } else {
       return Usage("unknown option " + a);
@@ -129,6 +159,16 @@ int main(int argc, char** argv) {
   if (!setup->security_dir.empty() && setup->domain > 230)
     return Usage("a secured domain must be 0..230 (DDS Security governance)");
 
+  if (record_options.frames_every > 0 && record_path.empty()) {
+    return Usage("--record-frames needs --record FILE.mcap");
+  }
+  if (!record_path.empty() && record_options.frames_every > 0) {
+    // The recorder is an in-process subscriber of image_raw: let every frame through.
+    for (auto& cam : setup->cameras) cam.image_max_rate_hz = 1000;
+  }
+  // A file size limit must end the recording with its summary, not the service.
+  std::signal(SIGXFSZ, SIG_IGN);
+
   auto service = monocle::Service::Start(*setup, StopRequested);
   if (!service && service.error().code == monocle::ErrorCode::kCancelled) {
     std::cerr << "monocled: stopped during start-up\n";
@@ -153,6 +193,21 @@ int main(int argc, char** argv) {
             << (setup->security_dir.empty() ? ", plain DDS (no security_dir)"
                                             : ", DDS Security as " + setup->security_dir)
             << "\n";
+  std::unique_ptr<monocle::record::Recorder> recorder;
+  if (!record_path.empty()) {
+    for (const auto& cam : service->get()->served_cameras()) {
+      record_options.namespaces.push_back(cam.ros_namespace);
+    }
+    auto started =
+        monocle::record::Recorder::Start((*service)->participant(), record_path, record_options);
+    if (!started) {
+      std::cerr << "monocled: error: --record: " << started.error() << "\n";
+      (*service)->Stop();
+      return 1;
+    }
+    recorder = std::move(*started);
+    std::cerr << "monocled: recording to " << record_path << "\n";
+  }
   const auto period = setup->status_period;
   timespec wait{static_cast<time_t>(period.count() / 1000),
                 static_cast<long>(period.count() % 1000) * 1000000L};
@@ -160,6 +215,19 @@ int main(int argc, char** argv) {
     const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
     if (signal == SIGINT || signal == SIGTERM) break;
     (*service)->PublishStatus();
+    if (recorder && recorder->error()) {
+      // The service goes on; only the recording ends (its file is closed with its index).
+      std::cerr << "monocled: " << recorder->error()->message << "; " << record_path
+                << " holds everything before it\n";
+      (void)recorder->Finish();
+      recorder.reset();
+    }
+  }
+  if (recorder) {
+    const monocle::Status closed = recorder->Finish();
+    std::cerr << "monocled: recording " << record_path
+              << (closed ? " closed" : " ended with an error: " + closed.error().message) << "\n";
+    recorder.reset();
   }
   (*service)->Stop();
   std::cerr << "monocled: stopped\n";

@@ -47,6 +47,8 @@ class Service {
   // The cameras it serves: the configuration's, less those refused at start (another
   // monocled on the domain already serves their namespace).
   const std::vector<CameraSetup>& served_cameras() const { return setup_.cameras; }
+  // The service's DDS participant, for in-process subscribers (monocled --record).
+  const std::shared_ptr<dds::Entity>& participant() const { return participant_; }
 
  private:
   Service() = default;
