@@ -7,6 +7,7 @@
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "client/cli/floor_map.h"
 #include "client/cli/floor_overlay.h"
 #include "client/cli/live.h"
 #include "idl/cli_output.pb.h"
@@ -475,19 +476,74 @@ int Project(const std::vector<std::string>& argv) {
   return any_failed ? kExitFailure : kExitOk;
 }
 
+constexpr const char* kMapHelp =
+    R"(Usage: monocle floor map --calibration CAL.pbtxt --out MAP.png [--range M]
+                         [--resolution M] [--pixel-sigma PX]
+
+The floor seen from above: where the calibrated camera sees the floor (its footprint, white
+outline), rings every metre around the robot origin (below the optical centre; X_w right,
+Y_w forward = up), and the horizontal 1-sigma of a floor point as colour (log scale, 1 mm
+blue to 1 m red) with contours at 5 mm, 1, 2, 5, 10, 20 and 50 cm. Each cell's 1-sigma is what
+`floor measure` reports for the pixel that sees it: the calibration's covariance (pose and
+intrinsics) and the pixel noise, propagated to first order (Xu et al. 2017, section 4).
+
+  --range M          metres shown ahead and to each side (default 6)
+  --resolution M     metres per map pixel (default 0.01)
+  --pixel-sigma PX   pixel noise, 1-sigma (default 0.5)
+)";
+
+int Map(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kMapHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--out", "--range", "--resolution", "--pixel-sigma"}, {}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (!args->positionals().empty())
+    return Fail("floor map takes no positional arguments", kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  const auto out = args->Require("--out");
+  if (!out) return Fail(out.error(), kExitUsage);
+  FloorMapOptions options;
+  const auto range = args->GetDouble("--range", options.range_m);
+  const auto resolution = args->GetDouble("--resolution", options.metres_per_px);
+  const auto pixel_sigma = args->GetDouble("--pixel-sigma", options.pixel_sigma_px);
+  if (!range) return Fail(range.error(), kExitUsage);
+  if (!resolution) return Fail(resolution.error(), kExitUsage);
+  if (!pixel_sigma) return Fail(pixel_sigma.error(), kExitUsage);
+  options.range_m = *range;
+  options.metres_per_px = *resolution;
+  options.cell_m = std::max(options.cell_m, options.metres_per_px);
+  options.pixel_sigma_px = *pixel_sigma;
+  const auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  auto map = RenderFloorMap(*calibration, options);
+  if (!map) {
+    return Fail(*cal_path + ": " + map.error().message,
+                map.error().code == ErrorCode::kInvalidArgument && calibration->floor
+                    ? kExitUsage
+                    : kExitFailure);
+  }
+  if (auto w = WriteImage(*out, map->picture); !w) return Fail(w.error(), kExitFailure);
+  return kExitOk;
+}
+
 }  // namespace
 
 int FloorCommand(const std::vector<std::string>& args) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::cout
-        << "Usage: monocle floor calibrate|measure|project ...  (monocle floor COMMAND --help)\n";
+    std::cout << "Usage: monocle floor calibrate|measure|project|map ...  (monocle floor COMMAND "
+                 "--help)\n";
     return args.empty() ? kExitUsage : kExitOk;
   }
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (args[0] == "calibrate") return Calibrate(rest);
   if (args[0] == "measure") return Measure(rest);
   if (args[0] == "project") return Project(rest);
-  return Fail("unknown floor command '" + args[0] + "' (calibrate, measure or project)",
+  if (args[0] == "map") return Map(rest);
+  return Fail("unknown floor command '" + args[0] + "' (calibrate, measure, project or map)",
               kExitUsage);
 }
 

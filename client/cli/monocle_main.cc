@@ -23,6 +23,8 @@ Commands:
       vertically above a floor pixel "u,v@fu,fv".
   floor project --calibration CAL.pbtxt [--json] X,Y,Z...
       The pixel where the calibrated camera sees each robot-frame point (metres).
+  floor map --calibration CAL.pbtxt --out MAP.png [--range M] [--pixel-sigma PX]
+      The floor from above: the camera's footprint and a floor point's 1-sigma as colour.
   corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z] [--json] [--overlay DIR]
       Camera position and pan, tilt, swing from the ceiling corner in each image.
   intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
