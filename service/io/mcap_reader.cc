@@ -3,13 +3,13 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <zlib.h>
 #include <zstd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <utility>
 
+#include "service/io/mcap_crc.h"
 #include "service/io/mcap_format.h"
 
 namespace monocle::mcap {
@@ -19,16 +19,6 @@ namespace {
 // a file is treated as corruption rather than allocated.
 constexpr uint64_t kMaxRecordBytes = 1ull << 30;
 constexpr uint64_t kMaxSummaryBytes = 256ull << 20;
-
-uint32_t Crc32(std::string_view bytes, uint32_t crc = 0) {
-  while (!bytes.empty()) {
-    const size_t n = std::min<size_t>(bytes.size(), 1u << 30);
-    crc = static_cast<uint32_t>(
-        crc32(crc, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(n)));
-    bytes.remove_prefix(n);
-  }
-  return crc;
-}
 
 bool ParseSchema(std::string_view content, SchemaInfo* s) {
   Cursor c(content);

@@ -3,25 +3,15 @@
 #include <fcntl.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
-#include <zlib.h>
 #include <zstd.h>
 
 #include <cerrno>
 #include <cstring>
 
+#include "service/io/mcap_crc.h"
+
 namespace monocle::mcap {
 namespace {
-
-uint32_t Crc32(std::string_view bytes, uint32_t crc = 0) {
-  // zlib's crc32 is the CRC-32 (ISO-HDLC) the specification asks for; it takes uInt lengths.
-  while (!bytes.empty()) {
-    const size_t n = std::min<size_t>(bytes.size(), 1u << 30);
-    crc = static_cast<uint32_t>(
-        crc32(crc, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(n)));
-    bytes.remove_prefix(n);
-  }
-  return crc;
-}
 
 std::string WriteErrorMessage(int err) {
   if (err == ENOSPC) return "the disk is full";

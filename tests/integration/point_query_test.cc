@@ -9,8 +9,7 @@
 #include <limits>
 
 #include "monocle/client.h"
-#include "service/geometry/test_scenes.h"
-#include "service/io/calibration_file.h"
+#include "tests/integration/paper_floor_calibration.h"
 #include "tests/integration/service_process.h"
 
 namespace monocle {
@@ -25,12 +24,7 @@ class PointQueryTest : public testing::ServiceTest {
  protected:
   PointQueryTest() : ServiceTest("monocle_point_query") {}
   void SetUp() override {
-    CameraCalibration cal;
-    cal.intrinsics = testing::PaperCamera();
-    cal.floor = FloorCalibration{};
-    cal.floor->pose = FloorPose{1.05, 2.0595, 0.0698, 0.0262};
-    cal.floor->covariance = FloorCovariance::Identity() * 1e-8;
-    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "floor.pbtxt", cal).ok());
+    ASSERT_NO_FATAL_FAILURE(testing::WritePaperFloorCalibration(dir_ / "floor.pbtxt"));
     // The point queries use only the calibration file; the camera gives the status.
     ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
 camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }

@@ -13,9 +13,8 @@
 #include "client/protocol/convert.h"
 #include "idl/monocle_msgs.h"
 #include "monocle/client.h"
-#include "service/geometry/test_scenes.h"
-#include "service/io/calibration_file.h"
 #include "service/io/mcap_reader.h"
+#include "tests/integration/paper_floor_calibration.h"
 #include "tests/integration/service_process.h"
 #include "tests/mcap_spec_reader.h"
 
@@ -58,12 +57,7 @@ class RecordTest : public testing::ServiceTest {
  protected:
   RecordTest() : ServiceTest("monocle_record") {}
   void SetUp() override {
-    CameraCalibration cal;
-    cal.intrinsics = testing::PaperCamera();
-    cal.floor = FloorCalibration{};
-    cal.floor->pose = FloorPose{1.05, 2.0595, 0.0698, 0.0262};
-    cal.floor->covariance = FloorCovariance::Identity() * 1e-8;
-    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "floor.pbtxt", cal).ok());
+    ASSERT_NO_FATAL_FAILURE(testing::WritePaperFloorCalibration(dir_ / "floor.pbtxt"));
     ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
 camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
 camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtxt"
