@@ -12,6 +12,7 @@
 
 #include "client/protocol/dds.h"
 #include "client/record/recorder.h"
+#include "service/server/replay_setup.h"
 #include "service/server/service.h"
 #include "service/server/service_config.h"
 
@@ -20,7 +21,7 @@ namespace {
 constexpr const char* kUsage =
     R"(Usage: monocled [--config FILE.pbtxt] [--domain D] [--security DIR] [--state-dir DIR]
                 [--record FILE.mcap [--record-frames none|every|N] [--record-zstd]]
-                [--print-config]
+                [--replay FILE.mcap [--replay-rate X] [--replay-loop]] [--print-config]
 
 The monocle service: measures robot poses from ceiling corners and floor points from its
 cameras and serves them over Cyclone DDS (topics in the README, "The service over DDS").
@@ -42,6 +43,15 @@ cameras and serves them over Cyclone DDS (topics in the README, "The service ove
   --record-frames MODE  none (default), every frame, or every Nth. Frames are recorded at
                    the camera's rate: this lifts image_max_rate_hz of the recorded cameras.
   --record-zstd    compress the recording losslessly (zstd chunks)
+  --replay FILE.mcap  serve a recording as if its cameras were live: every camera with
+                   frames in it (`monocle record --frames every`, `monocled --record-frames`),
+                   under its recorded id and ROS namespace, with the calibration and role it
+                   had when the recording started (a copy in STATE-DIR/replay/). Poses are
+                   computed again from the frames; capture times are the recorded ones. At
+                   the end of the file the camera's state is "stopped". Not with --config.
+  --replay-rate X  1 (default): at the recorded pace; 2 twice as fast; 0 as fast as frames
+                   can be read (monocled still processes only the newest frame, as live)
+  --replay-loop    start the recording again at its end
   --print-config   print the embedded default configuration and exit
 
 CYCLONEDDS_URI configures Cyclone DDS (docker/cyclonedds-loopback.xml: loopback only).
@@ -88,6 +98,9 @@ int main(int argc, char** argv) {
   std::string security_dir;
   std::string record_path;
   monocle::record::RecordOptions record_options;
+  std::string replay_path;
+  monocle::ReplayPace replay_pace;
+  bool replay_rate_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -110,6 +123,17 @@ int main(int argc, char** argv) {
       domain = static_cast<int>(d);
     } else if (a == "--record" && has_value) {
       record_path = argv[++i];
+    } else if (a == "--replay" && has_value) {
+      replay_path = argv[++i];
+    } else if (a == "--replay-rate" && has_value) {
+      char* end = nullptr;
+      const double rate = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(rate >= 0) || rate > 1000)
+        return Usage("--replay-rate must be 0 (no waiting) or a factor up to 1000, e.g. 1 or 0.5");
+      replay_pace.rate = rate;
+      replay_rate_given = true;
+    } else if (a == "--replay-loop") {
+      replay_pace.loop = true;
     } else if (a == "--record-zstd") {
       record_options.zstd = true;
     } else if (a == "--record-frames" && has_value) {
@@ -126,15 +150,22 @@ int main(int argc, char** argv) {
         return Usage("--record-frames must be none, every or a whole number N >= 1");
       }
     } else if (a == "--config" || a == "--state-dir" || a == "--domain" || a == "--security" ||
-               a == "--record" || a == "--record-frames") {
+               a == "--record" || a == "--record-frames" || a == "--replay" ||
+               a == "--replay-rate") {
       return Usage(a + " needs a value");
     } else {
       return Usage("unknown option " + a);
     }
   }
 
+  if (!replay_path.empty() && !config_path.empty())
+    return Usage("--replay serves the recording's own cameras and calibrations: not with --config");
+  if (replay_path.empty() && (replay_rate_given || replay_pace.loop))
+    return Usage("--replay-rate and --replay-loop need --replay FILE.mcap");
   monocle::Result<monocle::ServiceSetup> setup = monocle::MakeError(monocle::ErrorCode::kIo, "");
-  if (config_path.empty()) {
+  if (!replay_path.empty()) {
+    setup = monocle::ReplaySetup(replay_path, state_dir, replay_pace);
+  } else if (config_path.empty()) {
     if (auto s = monocle::EnsureSimulatorCalibrations(state_dir); !s) {
       std::cerr << "monocled: error: " << s.error() << "\n";
       return 1;

@@ -29,6 +29,8 @@ int StatusCommand(const std::vector<std::string>& args);
 // MCAP recordings: record (over DDS), info.
 int RecordCommand(const std::vector<std::string>& args);
 int InfoCommand(const std::vector<std::string>& args);
+// A recording's frames through the corner pipeline again (replay_command.cc).
+int ReplayCommand(const std::vector<std::string>& args);
 // DDS Security keystores (security init).
 int SecurityCommand(const std::vector<std::string>& args);
 

@@ -58,6 +58,8 @@ Live, from the running service (monocled) over DDS [--domain D] [--timeout S] [-
       Grabs one frame from a camera given by id, IP address or serial.
   info FILE.mcap [--json]
       What a recording holds: time span, cameras, messages per topic.
+  replay FILE.mcap [--camera ID] [--rate X] [--json]
+      A recording's frames through monocled's corner pipeline again: one pose per frame.
   simcam --scene corner|floor [--ip 127.0.0.1] [--width W --height H --fps F] [--truth FILE]
       Serves a simulated GigE Vision camera whose frames are rendered scenes.
 
@@ -90,6 +92,7 @@ int main(int argc, char** argv) {
   if (command == "security") return monocle::cli::SecurityCommand(rest);
   if (command == "record") return monocle::cli::RecordCommand(rest);
   if (command == "info") return monocle::cli::InfoCommand(rest);
+  if (command == "replay") return monocle::cli::ReplayCommand(rest);
   if (command == "--version") {
     std::cout << "monocle 0.1.0\n";
     return 0;

@@ -150,7 +150,7 @@ Result<Reader> Reader::Open(const std::string& path) {
     r.summary_.recovery_note = "the summary is damaged (" + s.error().message + "); ";
   }
   r.summary_.recovered = !closed;
-  if (Status s = r.ScanAll(/*collect_summary=*/true, nullptr); !s) return s.error();
+  if (Status s = r.ScanForSummary(); !s) return s.error();
   return r;
 }
 
@@ -265,97 +265,137 @@ Result<std::string> Reader::ChunkRecords(std::string_view chunk_content, uint64_
   return out;
 }
 
-Status Reader::ScanAll(bool collect_summary,
-                       const std::function<bool(const ChannelInfo&, const Message&)>* visit) {
-  // Channels as met in the data section (a visit needs them even when the summary has them).
-  std::map<uint16_t, ChannelInfo> channels;
-  Summary& s = summary_;
-  uint64_t offset = data_start_;
-  bool stop = false;
-  auto note = [&](uint64_t at, const std::string& what) {
-    // Only a cut-short file ends in a broken record; in a closed file it is an error.
-    if (!collect_summary) return;
-    s.recovery_note += what + " at byte " + std::to_string(at) + "; kept " +
-                       std::to_string(s.chunk_count) + " complete chunks before it";
-  };
-  // One record of the data section or of a chunk; false: malformed.
-  auto handle = [&](uint8_t op, std::string_view content) -> bool {
-    if (op == kSchema) {
-      SchemaInfo schema;
-      if (!ParseSchema(content, &schema)) return false;
-      if (collect_summary) s.schemas[schema.id] = schema;
-    } else if (op == kChannel) {
-      ChannelInfo ch;
-      if (!ParseChannel(content, &ch)) return false;
-      if (collect_summary) s.channels[ch.id] = ch;
-      channels[ch.id] = std::move(ch);
-    } else if (op == kMessage) {
-      Message m;
-      if (!ParseMessage(content, &m)) return false;
-      const auto ch = channels.find(m.channel_id);
-      if (ch == channels.end()) return false;  // a message before its channel
-      if (collect_summary) Count(&s, m);
-      if (visit != nullptr && !(*visit)(ch->second, m)) stop = true;
+Reader::MessageStream::MessageStream(Reader* reader)
+    : reader_(reader), offset_(reader->data_start_) {}
+
+bool Reader::MessageStream::Handle(uint8_t op, std::string_view content,
+                                   std::optional<Message>* message) {
+  if (op == kSchema) {
+    SchemaInfo schema;
+    if (!ParseSchema(content, &schema)) return false;
+    schemas_[schema.id] = std::move(schema);
+  } else if (op == kChannel) {
+    ChannelInfo ch;
+    if (!ParseChannel(content, &ch)) return false;
+    channels_[ch.id] = std::move(ch);
+  } else if (op == kMessage) {
+    Message m;
+    if (!ParseMessage(content, &m)) return false;
+    if (channels_.count(m.channel_id) == 0) return false;  // a message before its channel
+    *message = m;
+  }
+  return true;
+}
+
+Result<std::optional<Message>> Reader::MessageStream::Next() {
+  Reader& r = *reader_;
+  while (true) {
+    if (in_chunk_) {
+      Cursor c(std::string_view(chunk_).substr(chunk_position_));
+      if (c.remaining() == 0) {
+        in_chunk_ = false;
+        ++complete_chunks_;
+        continue;
+      }
+      const uint8_t op = c.U8();
+      const std::string_view content = c.Take(c.U64());
+      std::optional<Message> message;
+      if (!c.ok() || !Handle(op, content, &message)) {
+        return r.Malformed(chunk_offset_, "a record inside the chunk");
+      }
+      chunk_position_ += c.position();
+      if (message) return message;
+      continue;
     }
-    return true;
-  };
-  while (!stop && offset + kRecordPrefixBytes <= size_) {
-    auto prefix = ReadAt(offset, kRecordPrefixBytes);
+    if (ended_ || offset_ + kRecordPrefixBytes > r.size_) {
+      ended_ = true;
+      return std::optional<Message>();
+    }
+    auto prefix = r.ReadAt(offset_, kRecordPrefixBytes);
     if (!prefix) return prefix.error();
     Cursor p(*prefix);
     const uint8_t op = p.U8();
     const uint64_t len = p.U64();
-    if (op == kDataEnd || op == kFooter) break;
-    const bool cut = len > size_ - offset - kRecordPrefixBytes;
-    if (op == 0 || cut || len > kMaxRecordBytes) {
-      const std::string what = op == 0 ? "an invalid record"
-                               : cut   ? "a record cut short"
-                                       : "a record larger than 1 GB";
-      if (!s.recovered) return Malformed(offset, what);
-      note(offset, what);
-      break;
+    if (op == kDataEnd || op == kFooter) {
+      ended_ = true;
+      continue;
     }
-    const uint64_t content_at = offset + kRecordPrefixBytes;
+    // Only a cut-short file may end in a broken record; in a closed file it is an error.
+    auto broken = [&](const std::string& what) -> Result<std::optional<Message>> {
+      if (!r.summary_.recovered) return r.Malformed(offset_, what);
+      stopped_early_ = what + " at byte " + std::to_string(offset_);
+      ended_ = true;
+      return std::optional<Message>();
+    };
+    const bool cut = len > r.size_ - offset_ - kRecordPrefixBytes;
+    if (op == 0 || cut || len > kMaxRecordBytes) {
+      return broken(op == 0 ? "an invalid record"
+                    : cut   ? "a record cut short"
+                            : "a record larger than 1 GB");
+    }
+    const uint64_t record_at = offset_;
+    const uint64_t content_at = offset_ + kRecordPrefixBytes;
     if (op == kChunk) {
-      auto content = ReadAt(content_at, len);
+      auto content = r.ReadAt(content_at, len);
       if (!content) return content.error();
-      auto records = ChunkRecords(*content, offset);
+      auto records = r.ChunkRecords(*content, record_at);
       if (!records) {
-        if (!s.recovered) return records.error();
-        note(offset, "a damaged chunk");
-        break;
+        if (!r.summary_.recovered) return records.error();
+        return broken("a damaged chunk");
       }
-      Cursor r(*records);
-      while (!stop && r.ok() && r.remaining() > 0) {
-        const uint8_t rop = r.U8();
-        const std::string_view rcontent = r.Take(r.U64());
-        if (!r.ok() || !handle(rop, rcontent)) {
-          return Malformed(offset, "a record inside the chunk");
-        }
-      }
-      if (collect_summary) ++s.chunk_count;
+      chunk_ = std::move(*records);
+      chunk_position_ = 0;
+      chunk_offset_ = record_at;
+      in_chunk_ = true;
     } else if (op == kSchema || op == kChannel || op == kMessage) {
-      auto content = ReadAt(content_at, len);
+      auto content = r.ReadAt(content_at, len);
       if (!content) return content.error();
-      if (!handle(op, *content)) {
-        if (!s.recovered) return Malformed(offset, "record of opcode " + std::to_string(op));
-        note(offset, "a damaged record");
-        break;
+      record_ = std::move(*content);
+      std::optional<Message> message;
+      if (!Handle(op, record_, &message)) {
+        if (!r.summary_.recovered) {
+          return r.Malformed(record_at, "record of opcode " + std::to_string(op));
+        }
+        return broken("a damaged record");
       }
+      offset_ = content_at + len;
+      if (message) return message;
+      continue;
     }
     // Message indexes, attachments, metadata and unknown records are skipped by length.
-    offset = content_at + len;
+    offset_ = content_at + len;
   }
-  if (collect_summary && s.recovered && s.recovery_note.empty()) {
-    s.recovery_note = "the file was not closed (no footer); kept all " +
-                      std::to_string(s.chunk_count) + " complete chunks";
+}
+
+Status Reader::ScanForSummary() {
+  MessageStream stream(this);
+  while (true) {
+    auto m = stream.Next();
+    if (!m) return m.error();
+    if (!*m) break;
+    Count(&summary_, **m);
+  }
+  summary_.schemas = stream.schemas();
+  summary_.channels = stream.channels();
+  summary_.chunk_count = stream.complete_chunks();
+  if (!stream.stopped_early().empty()) {
+    summary_.recovery_note += stream.stopped_early() + "; kept " +
+                              std::to_string(summary_.chunk_count) + " complete chunks before it";
+  } else if (summary_.recovered) {
+    summary_.recovery_note += "the file was not closed (no footer); kept all " +
+                              std::to_string(summary_.chunk_count) + " complete chunks";
   }
   return Ok{};
 }
 
 Status Reader::ForEachMessage(
     const std::function<bool(const ChannelInfo&, const Message&)>& visit) {
-  return ScanAll(/*collect_summary=*/false, &visit);
+  MessageStream stream(this);
+  while (true) {
+    auto m = stream.Next();
+    if (!m) return m.error();
+    if (!*m || !visit(stream.channel((*m)->channel_id), **m)) return Ok{};
+  }
 }
 
 }  // namespace monocle::mcap

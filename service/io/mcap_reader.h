@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -69,6 +70,42 @@ class Reader {
   // cut-short file are visited.
   Status ForEachMessage(const std::function<bool(const ChannelInfo&, const Message&)>& visit);
 
+  // The messages in file order, one at a time, for a reader that pulls (a replayed camera):
+  // one chunk is held decompressed at a time. The Reader must outlive the stream and stay
+  // where it is (not be moved) while the stream is used.
+  class MessageStream {
+   public:
+    // The next message, nullopt at the end (of the data section, or of the complete chunks of
+    // a cut-short file). `Message::data` stays valid until the next call.
+    Result<std::optional<Message>> Next();
+    // The channel of a message returned by Next().
+    const ChannelInfo& channel(uint16_t id) const { return channels_.at(id); }
+    const std::map<uint16_t, SchemaInfo>& schemas() const { return schemas_; }
+    const std::map<uint16_t, ChannelInfo>& channels() const { return channels_; }
+    uint64_t complete_chunks() const { return complete_chunks_; }
+    // Why a cut-short file's walk ended before the end of its data ("" if it did not).
+    const std::string& stopped_early() const { return stopped_early_; }
+
+   private:
+    friend class Reader;
+    explicit MessageStream(Reader* reader);
+    // A schema, channel or message record; false: malformed.
+    bool Handle(uint8_t op, std::string_view content, std::optional<Message>* message);
+
+    Reader* reader_;
+    uint64_t offset_;     // the next record of the data section
+    std::string record_;  // the last message record read outside a chunk
+    std::string chunk_;   // the records of the chunk being walked
+    size_t chunk_position_ = 0;
+    uint64_t chunk_offset_ = 0;
+    bool in_chunk_ = false, ended_ = false;
+    std::map<uint16_t, SchemaInfo> schemas_;
+    std::map<uint16_t, ChannelInfo> channels_;  // as met in the data section
+    uint64_t complete_chunks_ = 0;
+    std::string stopped_early_;
+  };
+  MessageStream Messages() { return MessageStream(this); }
+
   // How many chunks were decompressed or scanned so far (0 after Open of a complete file).
   uint64_t chunks_read() const { return chunks_read_; }
 
@@ -76,8 +113,8 @@ class Reader {
   Reader() = default;
   Status ReadHeader();
   Status ReadSummaryFromIndex(uint64_t summary_start);
-  Status ScanAll(bool collect_summary,
-                 const std::function<bool(const ChannelInfo&, const Message&)>* visit);
+  // The summary of a file without a usable index, from one walk over its data section.
+  Status ScanForSummary();
   Result<std::string> ReadAt(uint64_t offset, uint64_t length) const;
   Result<std::string> ChunkRecords(std::string_view chunk_content, uint64_t offset);
   Error Malformed(uint64_t offset, const std::string& what) const;

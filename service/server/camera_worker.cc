@@ -84,15 +84,40 @@ void CameraWorker::SetState(CameraState state, const std::string& error) {
 }
 
 void CameraWorker::Acquire() {
-  ReconnectingSource source(
-      setup_.options, [this](CameraState s, const std::string& reason) { SetState(s, reason); },
-      setup_.stall_timeout);
+  // A device (reconnected when lost; it reports its own state), or a recording (it streams
+  // until its end: then the camera is stopped, as a device would be when unplugged for good).
+  std::unique_ptr<FrameSource> source;
+  RecordingSource* recording = nullptr;
+  if (setup_.replay) {
+    auto opened = RecordingSource::Open(setup_.replay->mcap_path, setup_.replay->recorded_namespace,
+                                        setup_.replay->pace);
+    if (!opened) {
+      SetState(CameraState::kFailed, opened.error().message);
+      return;
+    }
+    recording = opened->get();
+    source = std::move(*opened);
+    SetState(CameraState::kStreaming, "");
+  } else {
+    source = std::make_unique<ReconnectingSource>(
+        setup_.options, [this](CameraState s, const std::string& reason) { SetState(s, reason); },
+        setup_.stall_timeout);
+  }
   while (true) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stop_) return;
     }
-    auto frame = source.Next(std::chrono::milliseconds(200));
+    auto frame = source->Next(std::chrono::milliseconds(200));
+    if (!frame && recording != nullptr) {
+      if (recording->ended()) {
+        SetState(CameraState::kStopped, frame.error().message);
+        return;
+      }
+      if (frame.error().code == ErrorCode::kNotFound) continue;  // next frame not due yet
+      SetState(CameraState::kFailed, frame.error().message);
+      return;
+    }
     if (!frame) {
       // The source has reported it (state kFailed, once): this thread's work is done.
       if (IsPermanentCameraError(frame.error())) return;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "camera/aravis/aravis_source.h"
+#include "camera/recording_source.h"
 #include "service/common/result.h"
 
 namespace monocle {
@@ -40,6 +41,14 @@ struct CameraSetup {
     std::array<double, 4> rotation_xyzw{0, 0, 0, 1};
   };
   std::optional<Mount> mount;
+  // Frames from a recording instead of a device (`monocled --replay`, replay_setup.h): the
+  // MCAP file, the namespace the camera had in it, and the pace.
+  struct Replay {
+    std::string mcap_path;
+    std::string recorded_namespace;
+    ReplayPace pace;
+  };
+  std::optional<Replay> replay;
 
   bool corner() const { return role != CameraRole::kFloor; }
   bool floor() const { return role != CameraRole::kCorner; }

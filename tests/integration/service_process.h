@@ -29,13 +29,15 @@ inline std::string MonocledBinary() {
 }
 
 // Writes `config` (text protobuf, idl/service_config.proto) to DIR/monocled.pbtxt and starts
-// monocled with it; its log is DIR/monocled.log.
-inline std::unique_ptr<ChildProcess> StartMonocled(const TempDir& dir, const std::string& config) {
+// monocled with it (and `extra_args`); its log is DIR/monocled.log.
+inline std::unique_ptr<ChildProcess> StartMonocled(
+    const TempDir& dir, const std::string& config,
+    const std::vector<std::string>& extra_args = {}) {
   UseLoopbackDds();
   std::ofstream(dir / "monocled.pbtxt") << config;
-  return std::make_unique<ChildProcess>(
-      MonocledBinary(), std::vector<std::string>{"--config", dir / "monocled.pbtxt"},
-      dir / "monocled.log");
+  std::vector<std::string> args{"--config", dir / "monocled.pbtxt"};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  return std::make_unique<ChildProcess>(MonocledBinary(), args, dir / "monocled.log");
 }
 
 // A monocled (StartService) and a client of it; the service must stop cleanly after each
@@ -45,8 +47,10 @@ class ServiceTest : public ::testing::Test {
   explicit ServiceTest(const std::string& dir_name) : dir_(dir_name) {}
 
   // `cameras`: the camera { ... } entries (and other fields) of the configuration.
-  void StartService(int domain, const std::string& cameras) {
-    monocled_ = StartMonocled(dir_, "domain: " + std::to_string(domain) + "\n" + cameras);
+  void StartService(int domain, const std::string& cameras,
+                    const std::vector<std::string>& extra_args = {}) {
+    monocled_ =
+        StartMonocled(dir_, "domain: " + std::to_string(domain) + "\n" + cameras, extra_args);
     auto client = Client::open({domain, std::chrono::milliseconds(30000)});
     ASSERT_TRUE(client.ok()) << client.error();
     client_.emplace(std::move(client).value());

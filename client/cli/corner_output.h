@@ -1,0 +1,25 @@
+// How `monocle corner locate` and `monocle replay` show a corner pose: one text line, the JSON
+// object (idl/cli_output.proto CornerOutput), and the overlay picture.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "idl/cli_output.pb.h"
+#include "service/common/result.h"
+#include "service/vision/corner_locator.h"
+
+namespace monocle::cli {
+
+extern const char* kAxisName[3];  // "X", "Y", "Z": the corner frame's axes, edge by edge
+
+// `label  x=... y=... z=... m  pan=... rad  (1σ ...)  corner u,v px  rms ... px  detected`
+std::string CornerResultLine(const std::string& label, const CornerLocation& result);
+
+proto::CornerOutput ToCornerOutput(const std::string& image, const Result<CornerLocation>& r);
+
+// DIR/<image stem>.overlay.png: the edges found, the corner, the pose and each edge's support.
+void WriteCornerOverlay(const std::string& dir, const std::string& image_path, const cv::Mat& grey,
+                        const Result<CornerLocation>& result);
+
+}  // namespace monocle::cli

@@ -1,0 +1,246 @@
+// Record and replay against a real monocled on the simulated cameras, each in its own process
+// on loopback: a frame recording (`monocled --record --record-frames every`) replayed with
+// `monocle replay` gives, for every frame the service processed live, the pose it published
+// (bit for bit where both detected the corner); `monocled --replay` then serves the recording
+// as if its cameras were live: the same calibrations, the same floor answers, poses of the
+// recorded frames, and "stopped" at the end of the file.
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "client/protocol/cdr.h"
+#include "client/protocol/convert.h"
+#include "idl/cli_output.pb.h"
+#include "idl/monocle_msgs.h"
+#include "monocle/client.h"
+#include "service/io/mcap_reader.h"
+#include "tests/integration/paper_floor_calibration.h"
+#include "tests/integration/service_process.h"
+
+namespace monocle {
+namespace {
+
+using testing::ChildProcess;
+using testing::RunMonocle;
+
+constexpr int kLiveDomain = 73;
+constexpr int kReplayDomain = 75;
+
+bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+class ReplayTest : public testing::ServiceTest {
+ protected:
+  ReplayTest() : ServiceTest("monocle_replay") {}
+};
+
+// The poses `monocle replay --json` printed, by capture time.
+std::map<int64_t, proto::LivePoseOutput> ParseReplayJson(const std::string& out) {
+  std::map<int64_t, proto::LivePoseOutput> poses;
+  std::istringstream lines(out);
+  std::string line;
+  while (std::getline(lines, line)) {
+    proto::LivePoseOutput pose;
+    const auto status = google::protobuf::util::JsonStringToMessage(line, &pose);
+    EXPECT_TRUE(status.ok()) << status.ToString() << ": " << line;
+    EXPECT_TRUE(poses.emplace(pose.capture_time_ns(), pose).second)
+        << "two replayed frames with capture time " << pose.capture_time_ns();
+  }
+  return poses;
+}
+
+void ExpectSamePose(const Pose& live, const proto::CornerOutput& replayed,
+                    const std::string& what) {
+  ASSERT_FALSE(replayed.has_error()) << what << ": " << replayed.error();
+  if (!live.tracked && replayed.source() == "detected") {
+    // The same frame, the same detection: the same numbers, bit for bit.
+    for (auto [a, b] : {std::pair{live.x_m, replayed.x()},
+                        {live.y_m, replayed.y()},
+                        {live.z_m, replayed.z()},
+                        {live.pan_rad, replayed.pan()},
+                        {live.tilt_rad, replayed.tilt()},
+                        {live.swing_rad, replayed.swing()},
+                        {live.rms_px, replayed.rms_px()}}) {
+      EXPECT_TRUE(SameBits(a, b)) << what << ": " << a << " vs " << b;
+    }
+  } else {
+    // Tracked from a different previous frame (live skipped some while busy): the same pose
+    // within its own uncertainty.
+    EXPECT_NEAR(live.x_m, replayed.x(), 3 * replayed.sigma().x() + 1e-9) << what;
+    EXPECT_NEAR(live.y_m, replayed.y(), 3 * replayed.sigma().y() + 1e-9) << what;
+    EXPECT_NEAR(live.pan_rad, replayed.pan(), 3 * replayed.sigma().pan() + 1e-9) << what;
+  }
+}
+
+TEST_F(ReplayTest, ARecordingReplaysToTheLivePosesAndServesAsIfLive) {
+  ASSERT_NO_FATAL_FAILURE(testing::WritePaperFloorCalibration(dir_ / "floor.pbtxt"));
+  const std::string recording = dir_ / "live.mcap";
+  ASSERT_NO_FATAL_FAILURE(StartService(kLiveDomain, R"(
+camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
+camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtxt"
+         ceiling_distance_m: 1.6 }
+)",
+                                       {"--record", recording, "--record-frames", "every"}));
+  // Live: poses streamed to a client, and one floor answer.
+  std::mutex mutex;
+  std::map<int64_t, Pose> live;  // by capture time
+  auto sub = client_->subscribe_poses([&](const Pose& p) {
+    std::lock_guard lock(mutex);
+    live[p.capture_time_ns] = p;
+  });
+  ASSERT_TRUE(sub.ok()) << sub.error();
+  for (int i = 0; i < 600; ++i) {
+    {
+      std::lock_guard lock(mutex);
+      if (live.size() >= 40) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  auto live_floor = client_->measure("floor", {PixelQuery{640, 900, std::nullopt}});
+  ASSERT_TRUE(live_floor.ok()) << live_floor.error();
+  sub->stop();
+  ASSERT_EQ(monocled_->Stop(), 0) << testing::ReadFile(dir_ / "monocled.log");
+  monocled_.reset();
+  {
+    std::lock_guard lock(mutex);
+    ASSERT_GE(live.size(), 40u) << "the live service published too few poses";
+  }
+
+  // What the recording holds: the corner camera's frames and the poses published live.
+  auto reader = mcap::Reader::Open(recording);
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  std::set<int64_t> frame_stamps;
+  std::map<int64_t, Pose> recorded_poses;
+  ASSERT_TRUE(reader
+                  ->ForEachMessage([&](const mcap::ChannelInfo& ch, const mcap::Message& m) {
+                    if (ch.topic == "/monocle/corner/image_raw") {
+                      auto s = dds::DecodedSample<sensor_msgs_msg_dds__Image_>::Decode(
+                          &sensor_msgs_msg_dds__Image__desc, m.data);
+                      EXPECT_NE(s, nullptr);
+                      if (s) {
+                        frame_stamps.insert(int64_t{s->get().header.stamp.sec} * 1000000000 +
+                                            s->get().header.stamp.nanosec);
+                      }
+                    } else if (ch.topic == "/monocle/corner/corner_pose") {
+                      auto s = dds::DecodedSample<monocle_msgs_msg_dds__CornerPose_>::Decode(
+                          &monocle_msgs_msg_dds__CornerPose__desc, m.data);
+                      EXPECT_NE(s, nullptr);
+                      if (s) {
+                        const Pose p = wire::FromSample(s->get());
+                        recorded_poses[p.capture_time_ns] = p;
+                      }
+                    }
+                    return true;
+                  })
+                  .ok());
+  ASSERT_GE(frame_stamps.size(), 40u);
+
+  // monocle replay: one pose per recorded frame; each frame the service processed live gives
+  // the pose it published.
+  const auto replay = RunMonocle(dir_, "replay --json " + recording);
+  ASSERT_EQ(replay.exit_code, 0) << replay.err;
+  const auto replayed = ParseReplayJson(replay.out);
+  ASSERT_EQ(replayed.size(), frame_stamps.size()) << "one pose per recorded frame";
+  for (const auto& [stamp, pose] : replayed) {
+    EXPECT_EQ(pose.camera(), "corner");
+    EXPECT_EQ(pose.time_source(), "recorded");
+    EXPECT_EQ(frame_stamps.count(stamp), 1u) << "capture time " << stamp << " was not recorded";
+  }
+  int compared = 0, identical_detections = 0;
+  for (const auto& [stamp, pose] : recorded_poses) {
+    const auto it = replayed.find(stamp);
+    ASSERT_NE(it, replayed.end()) << "live pose of frame " << pose.frame_sequence
+                                  << " has no replayed frame";
+    if (!pose.valid) continue;
+    ExpectSamePose(pose, it->second.pose(), "frame at " + std::to_string(stamp));
+    ++compared;
+    identical_detections += !pose.tracked && it->second.pose().source() == "detected";
+  }
+  std::cout << "replay: " << replayed.size() << " frames, " << recorded_poses.size()
+            << " live poses, " << compared << " compared, " << identical_detections
+            << " detected in both (bit for bit)\n";
+  EXPECT_GE(compared, 30);
+  EXPECT_GE(identical_detections, 10);
+  // What the client received live is what was recorded (record_test shows it bit for bit);
+  // here: every live pose is among the replayed frames.
+  for (const auto& [stamp, pose] : live) EXPECT_EQ(replayed.count(stamp), 1u) << stamp;
+
+  // monocled --replay: the recording served as if live, on another domain.
+  const std::string state_dir = dir_ / "replay-state";
+  auto replaying = std::make_unique<ChildProcess>(
+      testing::MonocledBinary(),
+      std::vector<std::string>{"--replay", recording, "--replay-rate", "2", "--domain",
+                               std::to_string(kReplayDomain), "--state-dir", state_dir},
+      dir_ / "replay.log");
+  auto client = Client::open({kReplayDomain, std::chrono::milliseconds(30000)});
+  ASSERT_TRUE(client.ok()) << client.error();
+  std::mutex served_mutex;
+  std::vector<Pose> served;
+  auto served_sub = client->subscribe_poses([&](const Pose& p) {
+    std::lock_guard lock(served_mutex);
+    served.push_back(p);
+  });
+  ASSERT_TRUE(served_sub.ok()) << served_sub.error();
+  // The floor camera answers with the recorded calibration: the live answer, bit for bit.
+  auto replay_floor = client->measure("floor", {PixelQuery{640, 900, std::nullopt}});
+  ASSERT_TRUE(replay_floor.ok()) << replay_floor.error() << testing::ReadFile(dir_ / "replay.log");
+  EXPECT_EQ(std::memcmp((*replay_floor)[0].p_robot_m.data(), (*live_floor)[0].p_robot_m.data(), 24),
+            0);
+  EXPECT_EQ(std::memcmp((*replay_floor)[0].sigma_m.data(), (*live_floor)[0].sigma_m.data(), 24), 0);
+  // Status names the recording; at its end the corner camera is stopped.
+  bool stopped = false;
+  std::string last_status;
+  for (int i = 0; i < 600 && !stopped; ++i) {
+    auto status = client->status();
+    if (status.ok()) {
+      for (const auto& c : *status) {
+        if (c.camera_id != "corner") continue;
+        EXPECT_NE(c.device.find("live.mcap"), std::string::npos) << c.device;
+        last_status = std::string(ToString(c.state)) + ": " + c.last_error;
+        stopped = c.state == CameraState::kStopped;
+        if (stopped) {
+          EXPECT_NE(c.last_error.find("end of the recording"), std::string::npos) << c.last_error;
+        }
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(stopped) << last_status << "\n" << testing::ReadFile(dir_ / "replay.log");
+  served_sub->stop();
+  EXPECT_EQ(replaying->Stop(), 0) << testing::ReadFile(dir_ / "replay.log");
+  std::lock_guard lock(served_mutex);
+  ASSERT_GE(served.size(), 10u) << "poses served from the recording";
+  std::cout << "monocled --replay served " << served.size() << " poses\n";
+  for (const Pose& p : served) {
+    const auto it = replayed.find(p.capture_time_ns);
+    ASSERT_NE(it, replayed.end()) << "served a pose for a frame that is not in the recording";
+    if (p.valid)
+      ExpectSamePose(p, it->second.pose(), "served frame at " + std::to_string(p.capture_time_ns));
+  }
+}
+
+TEST_F(ReplayTest, ARecordingWithoutFramesIsRefusedWithWhatItHas) {
+  const std::string empty = dir_ / "empty.mcap";
+  {
+    std::ofstream f(empty);
+    f << "not an mcap file";
+  }
+  const auto bad = RunMonocle(dir_, "replay " + empty);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("not a valid MCAP file"), std::string::npos) << bad.err;
+  const auto usage = RunMonocle(dir_, "replay " + empty + " --rate -1");
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_NE(usage.err.find("--rate"), std::string::npos) << usage.err;
+  const auto none = RunMonocle(dir_, "replay");
+  EXPECT_EQ(none.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace monocle
