@@ -42,7 +42,9 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            quaternion corner_px rms_px sigma lines (with each edge's
                            support) source suspect [suspect_reason] noise_grey, or image
                            error
-  --overlay DIR            write DIR/<image>.overlay.png with the edges, corner and pose
+  --overlay DIR            write DIR/<image>.overlay.png: the edges measured (thick), the
+                           edges the pose predicts (thin white, to the border), each edge's
+                           support (length, coverage, contrast/noise, misfit), the pose
   --track                  the images are an ordered sequence (frames of a video): predict
                            the three edges from the previous pose and measure them there
                            first; a full detection when that fails, when the tracked pose is
@@ -175,7 +177,8 @@ int Locate(const std::vector<std::string>& argv) {
                                               : LocateCorner(*image, calibration->intrinsics, zc);
     if (!image && tracker) tracker->Reset();  // a gap in the sequence
     any_failed |= !result.ok();
-    if (overlay && image) WriteCornerOverlay(*overlay, path, *image, result);
+    if (overlay && image)
+      WriteCornerOverlay(*overlay, path, *image, calibration->intrinsics, result);
     if (json) {
       std::cout << ToJson(ToCornerOutput(path, result)) << std::endl;
       continue;

@@ -1,5 +1,6 @@
 #include "client/cli/corner_output.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -7,6 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+
+#include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
 namespace {
@@ -17,26 +20,58 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 
 const char* kAxisName[3] = {"X", "Y", "Z"};
 
-void WriteCornerOverlay(const std::string& dir, const std::string& image_path, const cv::Mat& grey,
-                        const Result<CornerLocation>& result) {
+namespace {
+
+void PutOutlinedText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
+                     const cv::Scalar& colour, int thickness) {
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), thickness + 3,
+              cv::LINE_AA);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, thickness, cv::LINE_AA);
+}
+
+cv::Point Pt(const Eigen::Vector2d& p) {
+  return cv::Point(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+}
+
+}  // namespace
+
+cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsics,
+                          const Result<CornerLocation>& result) {
   cv::Mat color;
   cv::cvtColor(grey, color, cv::COLOR_GRAY2BGR);
-  auto pt = [](const Eigen::Vector2d& p) {
-    return cv::Point(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
-  };
   std::string text;
+  const cv::Scalar colors[3] = {cv::Scalar(0, 0, 255), cv::Scalar(0, 200, 0),
+                                cv::Scalar(255, 0, 0)};
+  // Lighter versions for text on its black outline.
+  const cv::Scalar label_colors[3] = {cv::Scalar(110, 110, 255), cv::Scalar(110, 255, 110),
+                                      cv::Scalar(255, 190, 110)};
   if (result) {
+    // What the detector saw: its straight segments.
     for (const auto& s : result->edges.hough_segments)
-      cv::line(color, pt(s.a_px), pt(s.b_px), cv::Scalar(0, 200, 255), 1, cv::LINE_AA);
-    const cv::Scalar colors[3] = {cv::Scalar(0, 0, 255), cv::Scalar(0, 200, 0),
-                                  cv::Scalar(255, 0, 0)};
+      cv::line(color, Pt(s.a_px), Pt(s.b_px), cv::Scalar(0, 200, 255), 1, cv::LINE_AA);
+    // What was measured: each edge as far as it was found, with its support beside it.
     for (int a = 0; a < 3; ++a) {
-      cv::line(color, pt(result->corner_px), pt(result->line_end_px[a]), colors[a], 2, cv::LINE_AA);
-      cv::putText(color, kAxisName[a],
-                  pt(result->line_end_px[a] + 0.1 * (result->corner_px - result->line_end_px[a])),
-                  cv::FONT_HERSHEY_SIMPLEX, 1.0, colors[a], 2);
+      cv::line(color, Pt(result->corner_px), Pt(result->line_end_px[a]), colors[a], 2, cv::LINE_AA);
+      const EdgeSupport& s = result->support[a];
+      std::ostringstream label;
+      label << std::fixed << kAxisName[a] << " " << std::setprecision(0) << s.length_px << " px "
+            << std::setprecision(0) << s.coverage * 100 << "%, " << std::setprecision(1)
+            << s.contrast_to_noise << "x noise, misfit " << std::setprecision(2) << s.misfit_px
+            << " px";
+      // At 60 % along the measured edge, pulled inside the picture.
+      Eigen::Vector2d at = result->corner_px + 0.6 * (result->line_end_px[a] - result->corner_px);
+      at.x() = std::clamp(at.x() + 10, 4.0, std::max(4.0, color.cols - 420.0));
+      at.y() = std::clamp(at.y(), 110.0, std::max(110.0, color.rows - 40.0));
+      PutOutlinedText(color, label.str(), Pt(at), 0.55, label_colors[a], 1);
     }
-    cv::circle(color, pt(result->corner_px), 8, cv::Scalar(0, 255, 255), 2, cv::LINE_AA);
+    // What the pose predicts: each axis through the lens, to the border, drawn over the
+    // measured edges (thin white): where the two part, the edges do not agree with the pose.
+    for (int a = 0; a < 3; ++a) {
+      std::vector<cv::Point> curve{Pt(result->corner_px)};
+      for (const auto& p : PredictEdgePx(intrinsics, result->pose, a, 4)) curve.push_back(Pt(p));
+      cv::polylines(color, curve, false, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    }
+    cv::circle(color, Pt(result->corner_px), 8, cv::Scalar(0, 255, 255), 2, cv::LINE_AA);
     std::ostringstream os;
     os << std::fixed << std::setprecision(3) << "x " << result->pose.x_m << " y "
        << result->pose.y_m << " z " << result->pose.z_m << " m  pan " << std::setprecision(2)
@@ -46,36 +81,32 @@ void WriteCornerOverlay(const std::string& dir, const std::string& image_path, c
   } else {
     text = result.error().message;
   }
-  cv::putText(color, text, cv::Point(12, 32), cv::FONT_HERSHEY_SIMPLEX, 0.8, cv::Scalar(0, 0, 0),
-              4);
-  cv::putText(color, text, cv::Point(12, 32), cv::FONT_HERSHEY_SIMPLEX, 0.8,
-              cv::Scalar(0, 255, 255), 2);
+  PutOutlinedText(color, text, cv::Point(12, 32), 0.8, cv::Scalar(0, 255, 255), 2);
   if (result) {
-    // Second line: where the pose came from and how well each edge supports it.
+    // Second line: where the pose came from and the image's noise.
     std::ostringstream os;
     os << std::fixed << std::setprecision(1) << ToString(result->source) << "  noise "
-       << result->noise_sigma_grey << " grey";
-    for (int a = 0; a < 3; ++a) {
-      const auto& s = result->support[a];
-      os << "  " << kAxisName[a] << ": " << std::setprecision(0) << s.length_px << " px, "
-         << std::setprecision(1) << s.contrast_to_noise << "x noise";
-    }
-    cv::putText(color, os.str(), cv::Point(12, 64), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-                cv::Scalar(0, 0, 0), 4);
-    cv::putText(color, os.str(), cv::Point(12, 64), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-                cv::Scalar(0, 255, 255), 1);
+       << result->noise_sigma_grey << " grey  rms " << std::setprecision(2) << result->rms_px
+       << " px";
+    PutOutlinedText(color, os.str(), cv::Point(12, 64), 0.6, cv::Scalar(0, 255, 255), 1);
     if (result->suspect) {
-      const std::string warning = "SUSPECT: " + result->suspect_reason;
-      cv::putText(color, warning, cv::Point(12, 92), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-                  cv::Scalar(0, 0, 0), 4);
-      cv::putText(color, warning, cv::Point(12, 92), cv::FONT_HERSHEY_SIMPLEX, 0.6,
-                  cv::Scalar(0, 0, 255), 2);
+      PutOutlinedText(color, "SUSPECT: " + result->suspect_reason, cv::Point(12, 92), 0.6,
+                      cv::Scalar(0, 0, 255), 2);
     }
+    PutOutlinedText(color,
+                    "thick: edges measured (as far as found)   thin white: edges the pose "
+                    "predicts   orange: straight segments seen",
+                    cv::Point(12, color.rows - 14), 0.5, cv::Scalar(255, 255, 255), 1);
   }
+  return color;
+}
+
+void WriteCornerOverlay(const std::string& dir, const std::string& image_path, const cv::Mat& grey,
+                        const CameraIntrinsics& intrinsics, const Result<CornerLocation>& result) {
   const std::string out = (std::filesystem::path(dir) /
                            (std::filesystem::path(image_path).stem().string() + ".overlay.png"))
                               .string();
-  if (!cv::imwrite(out, color))
+  if (!cv::imwrite(out, DrawCornerOverlay(grey, intrinsics, result)))
     std::cerr << "monocle: warning: cannot write overlay " << out << "\n";
 }
 

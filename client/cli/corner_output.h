@@ -18,8 +18,15 @@ std::string CornerResultLine(const std::string& label, const CornerLocation& res
 
 proto::CornerOutput ToCornerOutput(const std::string& image, const Result<CornerLocation>& r);
 
-// DIR/<image stem>.overlay.png: the edges found, the corner, the pose and each edge's support.
+// The image in colour with what the locator saw and concluded: the straight segments the
+// detector found, the three edges as far as they were measured, the edges the chosen pose
+// predicts (through the lens, to the border), each edge's support (length, coverage,
+// contrast against the noise, misfit to the pose), the pose, and SUSPECT with its reason.
+cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsics,
+                          const Result<CornerLocation>& result);
+
+// DIR/<image stem>.overlay.png: DrawCornerOverlay's picture.
 void WriteCornerOverlay(const std::string& dir, const std::string& image_path, const cv::Mat& grey,
-                        const Result<CornerLocation>& result);
+                        const CameraIntrinsics& intrinsics, const Result<CornerLocation>& result);
 
 }  // namespace monocle::cli

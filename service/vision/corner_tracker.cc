@@ -4,12 +4,9 @@
 #include <cmath>
 
 namespace monocle {
-namespace {
 
-// Pixels along the (lens-bent) image of one corner axis from the corner outwards, every
-// `spacing_px`.
-std::vector<Eigen::Vector2d> PredictEdge(const CameraIntrinsics& k, const CornerPose& pose,
-                                         int axis, int spacing_px) {
+std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const CornerPose& pose,
+                                           int axis, int spacing_px) {
   std::vector<Eigen::Vector2d> positions;
   const double scale = std::max(CameraPosition(pose).norm(), 0.1);
   const Eigen::Vector3d c = CornerToCamera(pose, Eigen::Vector3d::Zero());
@@ -33,8 +30,6 @@ std::vector<Eigen::Vector2d> PredictEdge(const CameraIntrinsics& k, const Corner
   }
   return positions;
 }
-
-}  // namespace
 
 CornerTracker::CornerTracker(const CameraIntrinsics& intrinsics, double ceiling_distance_m,
                              const CornerTrackerOptions& options,
@@ -63,7 +58,7 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
   edges.corner_px = NormalizedToPixel(k, c.head<2>() / c.z());
   const double min_step = MinStepGrey(detector_, noise_sigma_grey_);
   for (int axis = 0; axis < 3; ++axis) {
-    const auto positions = PredictEdge(k, *last_pose_, axis, options_.spacing_px);
+    const auto positions = PredictEdgePx(k, *last_pose_, axis, options_.spacing_px);
     if (positions.size() < 10) return MakeError(ErrorCode::kNotFound, "an edge left the view");
     edges.direction[axis] = (positions[1] - positions[0]).normalized();
     for (size_t begin = 0; begin < positions.size(); begin += 16) {

@@ -7,12 +7,19 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "service/common/result.h"
 #include "service/geometry/camera_model.h"
 #include "service/vision/corner_locator.h"
 
 namespace monocle {
+
+// Pixels along the image of corner axis `axis` (0 X, 1 Y, 2 Z) as `pose` predicts it through
+// the lens, from 8 px off the corner (where the edges separate) to the image border, every
+// `spacing_px` of arc length. What tracking measures, and what overlays draw.
+std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const CornerPose& pose,
+                                           int axis, int spacing_px);
 
 struct CornerTrackerOptions {
   int detect_every_n_frames = 30;    // a full detection at least this often (1: always detect)

@@ -125,3 +125,47 @@ TEST(CornerTrackerTest, AFrameWithoutCornerIsAnErrorAndTheNextIsDetected) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// PredictEdgePx round trip: every predicted pixel, taken back through the lens
+// (PixelToNormalized, the iterative inverse of the distortion PredictEdgePx applies), is a
+// ray in the plane of the camera centre and the corner axis, on the axis's side of the corner.
+TEST(PredictEdgePxTest, EveryPixelLooksAtTheAxisThroughTheLens) {
+  for (const CameraIntrinsics& k : {testing::PaperCamera(), testing::SmallWideAngleCamera()}) {
+    std::mt19937_64 rng(77);
+    for (int view = 0; view < 5; ++view) {
+      const auto pose = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/false);
+      ASSERT_TRUE(pose);
+      const Eigen::Vector3d corner_c = CornerToCamera(*pose, Eigen::Vector3d::Zero());
+      for (int axis = 0; axis < 3; ++axis) {
+        const Eigen::Vector3d far_c = CornerToCamera(*pose, Eigen::Vector3d::Unit(axis));
+        const Eigen::Vector3d normal = corner_c.cross(far_c).normalized();
+        const auto pixels = PredictEdgePx(k, *pose, axis, 5);
+        ASSERT_GT(pixels.size(), 10u) << "axis " << axis << " of view " << view;
+        for (const auto& px : pixels) {
+          EXPECT_GE(px.x(), 0);
+          EXPECT_GE(px.y(), 0);
+          EXPECT_LE(px.x(), k.width_px - 1);
+          EXPECT_LE(px.y(), k.height_px - 1);
+          const auto n = PixelToNormalized(k, px);
+          ASSERT_TRUE(n);
+          const Eigen::Vector3d ray = Eigen::Vector3d(n->x(), n->y(), 1).normalized();
+          // 1e-5 rad: a hundredth of a pixel at these focal lengths (the curve is resampled
+          // along chords of 2 % steps, and the lens inverse is iterative).
+          EXPECT_LT(std::abs(normal.dot(ray)), 1e-5) << "pixel " << px.transpose();
+          // On the axis's side: the ray meets the axis at a positive distance from the corner.
+          const Eigen::Vector3d across = normal.cross(far_c - corner_c);
+          EXPECT_GT(ray.dot(across) * corner_c.dot(across), 0) << "pixel " << px.transpose();
+        }
+        // Consecutive pixels are `spacing` apart along the curve (to the chord's bending).
+        for (size_t i = 1; i < pixels.size(); ++i)
+          EXPECT_NEAR((pixels[i] - pixels[i - 1]).norm(), 5.0, 0.05);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace monocle

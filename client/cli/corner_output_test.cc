@@ -1,0 +1,62 @@
+// The corner overlay draws the edges the chosen pose predicts: with a pose turned by 2
+// degrees the thin white curves leave the measured edges and run where that pose projects
+// the corner's axes; with the located pose they lie on the measured edges.
+#include "client/cli/corner_output.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "camera/render/corner_renderer.h"
+#include "service/geometry/corner_test_scenes.h"
+#include "service/geometry/test_scenes.h"
+#include "service/vision/corner_tracker.h"
+
+namespace monocle::cli {
+namespace {
+
+// Fraction of the pose's predicted edge pixels (away from the corner and the text) that are
+// drawn white in `overlay`.
+double WhiteAlongPrediction(const cv::Mat& overlay, const CameraIntrinsics& k,
+                            const CornerLocation& location) {
+  int white = 0, total = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const auto& p : PredictEdgePx(k, location.pose, axis, 7)) {
+      if ((p - location.corner_px).norm() < 40 || p.y() < 120 || p.y() > k.height_px - 40) continue;
+      const cv::Vec3b c = overlay.at<cv::Vec3b>(static_cast<int>(std::lround(p.y())),
+                                                static_cast<int>(std::lround(p.x())));
+      white += c[0] > 110 && c[1] > 110 && c[2] > 110;
+      ++total;
+    }
+  }
+  EXPECT_GT(total, 50);
+  return total > 0 ? static_cast<double>(white) / total : 0;
+}
+
+TEST(CornerOverlayTest, DrawsTheEdgesTheChosenPosePredicts) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  std::mt19937_64 rng(2024);
+  const auto pose = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/false);
+  ASSERT_TRUE(pose);
+  CornerScene scene;
+  scene.room_height_m = pose->z_m + 1.2;
+  const cv::Mat image = RenderCornerScene(k, *pose, scene);
+  auto located = LocateCorner(image, k, pose->z_m);
+  ASSERT_TRUE(located.ok()) << located.error();
+
+  CornerLocation turned = *located;
+  turned.pose.pan_rad += testing::Deg(2);
+  // Drawn on a black picture of the same size: whatever is white was drawn.
+  const cv::Mat black = cv::Mat::zeros(image.size(), CV_8UC1);
+  const cv::Mat drawn_turned = DrawCornerOverlay(black, k, turned);
+  const cv::Mat drawn_located = DrawCornerOverlay(black, k, *located);
+  // The turned pose's curves are drawn where it projects the axes...
+  EXPECT_GT(WhiteAlongPrediction(drawn_turned, k, turned), 0.8);
+  // ...which the located pose's picture does not paint white there.
+  EXPECT_LT(WhiteAlongPrediction(drawn_located, k, turned), 0.2);
+  // The located pose's own curves lie on the measured edges.
+  EXPECT_GT(WhiteAlongPrediction(drawn_located, k, *located), 0.8);
+}
+
+}  // namespace
+}  // namespace monocle::cli
