@@ -31,6 +31,8 @@ int RecordCommand(const std::vector<std::string>& args);
 int InfoCommand(const std::vector<std::string>& args);
 // A recording's frames through the corner pipeline again (replay_command.cc).
 int ReplayCommand(const std::vector<std::string>& args);
+// The live frame with the service's measurement drawn on it (view_command.cc).
+int ViewCommand(const std::vector<std::string>& args);
 // DDS Security keystores (security init).
 int SecurityCommand(const std::vector<std::string>& args);
 

@@ -69,29 +69,10 @@ bool Inside(const cv::Mat& image, const Eigen::Vector2d& px, double margin = 0) 
 
 }  // namespace
 
-cv::Mat DrawFloorOverlay(const cv::Mat& grey, const CameraIntrinsics& k,
-                         const FloorCalibration& floor, const BoardObservation& board,
-                         const FloorGuidance& guidance) {
-  cv::Mat image;
-  cv::cvtColor(grey, image, cv::COLOR_GRAY2BGR);
-  const FloorPose& pose = floor.pose;
+bool DrawFloorFrame(cv::Mat& image, const CameraIntrinsics& k, const FloorPose& pose) {
   auto on_floor = [&](double x, double y) -> std::optional<Eigen::Vector3d> {
     return RobotToCamera(pose, Eigen::Vector3d(x, y, 0));
   };
-
-  // The board's squares where the result puts them, one square beyond the inner corners.
-  auto board_point = [&](double i, double j) -> std::optional<Eigen::Vector3d> {
-    return RobotToCamera(pose, BoardToRobot(pose.yaw_rad, floor.board_origin_robot_m,
-                                            {i * board.square_m, j * board.square_m}));
-  };
-  for (int i = -1; i <= board.cols; ++i)
-    DrawCurve(
-        image, k, [&](double j) { return board_point(i, j); }, -1, board.rows, kBoardColour);
-  for (int j = -1; j <= board.rows; ++j)
-    DrawCurve(
-        image, k, [&](double i) { return board_point(i, j); }, -1, board.cols, kBoardColour);
-  for (const auto& px : board.pixels) cv::circle(image, P(px), 4, kCornerColour, 1, cv::LINE_AA);
-
   // Lines of constant distance ahead, labelled where they leave the image on the right.
   for (double y : {0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 7.0, 10.0, 15.0, 20.0}) {
     const auto mid = ProjectRobotPoint(k, pose, Eigen::Vector3d(0, y, 0));
@@ -146,6 +127,31 @@ cv::Mat DrawFloorOverlay(const cv::Mat& grey, const CameraIntrinsics& k,
       }
     }
   }
+
+  return horizon_in_view;
+}
+
+cv::Mat DrawFloorOverlay(const cv::Mat& grey, const CameraIntrinsics& k,
+                         const FloorCalibration& floor, const BoardObservation& board,
+                         const FloorGuidance& guidance) {
+  cv::Mat image;
+  cv::cvtColor(grey, image, cv::COLOR_GRAY2BGR);
+  const FloorPose& pose = floor.pose;
+
+  // The board's squares where the result puts them, one square beyond the inner corners.
+  auto board_point = [&](double i, double j) -> std::optional<Eigen::Vector3d> {
+    return RobotToCamera(pose, BoardToRobot(pose.yaw_rad, floor.board_origin_robot_m,
+                                            {i * board.square_m, j * board.square_m}));
+  };
+  for (int i = -1; i <= board.cols; ++i)
+    DrawCurve(
+        image, k, [&](double j) { return board_point(i, j); }, -1, board.rows, kBoardColour);
+  for (int j = -1; j <= board.rows; ++j)
+    DrawCurve(
+        image, k, [&](double i) { return board_point(i, j); }, -1, board.cols, kBoardColour);
+  for (const auto& px : board.pixels) cv::circle(image, P(px), 4, kCornerColour, 1, cv::LINE_AA);
+
+  const bool horizon_in_view = DrawFloorFrame(image, k, pose);
 
   // Caption on a dark band: the result, a legend in the drawing's colours and, in red, why
   // the result cannot be used.

@@ -9,6 +9,11 @@
 
 namespace monocle::cli {
 
+// Draws into `image` (colour) what a floor pose means in the picture: lines of constant
+// distance ahead on the floor (yellow, labelled in metres), the horizon (orange) and the robot
+// frame's X_w and Y_w axes (red, magenta). Returns whether the horizon is in view.
+bool DrawFloorFrame(cv::Mat& image, const CameraIntrinsics& k, const FloorPose& pose);
+
 // A colour picture: `grey` with the detected corners (green), the board's squares reprojected
 // through the calibrated pose (blue), the horizon (orange), the robot frame's X_w and Y_w
 // axes (red, magenta) and lines of constant distance ahead on the floor (yellow, labelled in

@@ -43,6 +43,8 @@ Live, from the running service (monocled) over DDS [--domain D] [--timeout S] [-
       Points measured by the service with its current calibration of that camera.
   floor calibrate --camera ID --board COLSxROWS --square METRES [--json]
       The service calibrates the floor from the camera's next frame, stores and publishes it.
+  view --camera ID --out LIVE.png [--every S]
+      The camera's live frame with what the service measured in it drawn on it.
   status [--watch] [--json]
       The service's cameras: state, fps, dropped frames, latency, last error.
 
@@ -93,6 +95,7 @@ int main(int argc, char** argv) {
   if (command == "record") return monocle::cli::RecordCommand(rest);
   if (command == "info") return monocle::cli::InfoCommand(rest);
   if (command == "replay") return monocle::cli::ReplayCommand(rest);
+  if (command == "view") return monocle::cli::ViewCommand(rest);
   if (command == "--version") {
     std::cout << "monocle 0.1.0\n";
     return 0;

@@ -7,6 +7,10 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -21,7 +25,9 @@
 #include "idl/cli_output.pb.h"
 #include "idl/monocle_msgs.h"
 #include "monocle/client.h"
+#include "service/io/calibration_file.h"
 #include "service/io/mcap_reader.h"
+#include "service/vision/corner_tracker.h"
 #include "tests/integration/paper_floor_calibration.h"
 #include "tests/integration/service_process.h"
 
@@ -240,6 +246,82 @@ TEST_F(ReplayTest, ARecordingWithoutFramesIsRefusedWithWhatItHas) {
   EXPECT_NE(usage.err.find("--rate"), std::string::npos) << usage.err;
   const auto none = RunMonocle(dir_, "replay");
   EXPECT_EQ(none.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// monocle view against a live service: the saved picture carries the pose of the very frame
+// it shows (its X edge drawn where that pose projects it), the floor camera's picture its
+// distance lines; an unknown camera is named with the ones there are.
+class ViewTest : public testing::ServiceTest {
+ protected:
+  ViewTest() : ServiceTest("monocle_view") {}
+};
+
+TEST_F(ViewTest, TheLivePictureShowsThePoseOfItsOwnFrame) {
+  ASSERT_NO_FATAL_FAILURE(testing::WritePaperFloorCalibration(dir_ / "floor.pbtxt"));
+  ASSERT_NO_FATAL_FAILURE(StartService(77, R"(
+camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
+camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtxt"
+         ceiling_distance_m: 1.6 }
+)"));
+  std::mutex mutex;
+  std::map<int64_t, Pose> poses;
+  auto sub = client_->subscribe_poses([&](const Pose& p) {
+    std::lock_guard lock(mutex);
+    poses[p.capture_time_ns] = p;
+  });
+  ASSERT_TRUE(sub.ok()) << sub.error();
+  const auto view =
+      RunMonocle(dir_, "view --domain 77 --timeout 30 --camera corner --out " + dir_ / "live.png");
+  ASSERT_EQ(view.exit_code, 0) << view.err;
+  const auto at = view.out.find("frame at ");
+  ASSERT_NE(at, std::string::npos) << view.out;
+  const int64_t stamp = std::stoll(view.out.substr(at + 9));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  sub->stop();
+  Pose pose;
+  {
+    std::lock_guard lock(mutex);
+    ASSERT_EQ(poses.count(stamp), 1u) << "the client saw no pose of the frame view saved";
+    pose = poses.at(stamp);
+  }
+  ASSERT_TRUE(pose.valid) << pose.error;
+  const cv::Mat picture = cv::imread(dir_ / "live.png", cv::IMREAD_COLOR);
+  ASSERT_EQ(picture.cols, 1280);
+  ASSERT_EQ(picture.rows, 1024);
+  auto calibration = LoadCalibrationFile(dir_ / "floor.pbtxt");
+  ASSERT_TRUE(calibration.ok()) << calibration.error();
+  const CornerPose p{pose.x_m, pose.y_m, pose.z_m, pose.pan_rad, pose.tilt_rad, pose.swing_rad};
+  int drawn = 0, total = 0;
+  for (const auto& px : PredictEdgePx(calibration->intrinsics, p, /*axis=*/0, 6)) {
+    if ((px - Eigen::Vector2d(pose.corner_px[0], pose.corner_px[1])).norm() < 30 || px.y() < 110 ||
+        px.y() > 960)
+      continue;
+    const cv::Vec3b c = picture.at<cv::Vec3b>(static_cast<int>(std::lround(px.y())),
+                                              static_cast<int>(std::lround(px.x())));
+    drawn += c[2] > 200 && c[0] < 160 && c[1] < 160;  // the X edge's light red
+    ++total;
+  }
+  ASSERT_GT(total, 20);
+  EXPECT_GT(drawn, 0.7 * total) << drawn << " of " << total;
+
+  const auto floor =
+      RunMonocle(dir_, "view --domain 77 --timeout 30 --camera floor --out " + dir_ / "floor.png");
+  ASSERT_EQ(floor.exit_code, 0) << floor.err;
+  const cv::Mat floor_picture = cv::imread(dir_ / "floor.png", cv::IMREAD_COLOR);
+  cv::Mat yellow;
+  cv::inRange(floor_picture, cv::Scalar(0, 200, 200), cv::Scalar(60, 255, 255), yellow);
+  EXPECT_GT(cv::countNonZero(yellow), 1000) << "distance lines on the floor";
+
+  const auto unknown = RunMonocle(dir_, "view --domain 77 --camera nope --out " + dir_ / "x.png");
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("cameras: "), std::string::npos) << unknown.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "x.png"));
 }
 
 }  // namespace

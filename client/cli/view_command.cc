@@ -1,0 +1,293 @@
+// monocle view: the service's live frame of one camera, with what the service concluded from
+// it drawn on it (the corner pose's edges, or the floor calibration's distances and horizon).
+#include <algorithm>
+#include <csignal>
+#include <deque>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <mutex>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <thread>
+
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "client/cli/floor_overlay.h"
+#include "client/cli/live.h"
+#include "client/protocol/dds.h"
+#include "client/protocol/wire.h"
+#include "idl/ros2_messages.h"
+#include "service/vision/corner_tracker.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+constexpr const char* kViewHelp =
+    R"help(Usage: monocle view --camera ID --out LIVE.png [--every S] [--count N]
+                    [--domain D] [--timeout S] [--security DIR]
+
+Saves the service's live frame of a camera with what the service measured in it drawn on it:
+for a corner camera the three edges its pose predicts (through the lens, white), the corner,
+the pose (metres, degrees in the corner frame), detected or tracked, SUSPECT with its reason;
+for a floor camera the distances ahead on the floor (metres), the horizon and the robot
+frame's axes from the camera's floor calibration. The frame comes from the camera's ROS 2
+image_raw topic (published while someone subscribes, at most image_max_rate_hz).
+
+  --camera ID     the camera (`monocle status` lists them)
+  --out LIVE.png  where to save the picture (replaced in one step: a viewer never reads half)
+  --every S       save a new picture every S seconds until Ctrl-C (default: once)
+  --count N       stop after N pictures (with --every)
+  --domain D      DDS domain id (default 0); --timeout S: give up after S seconds without a
+                  frame (default 10)
+  --security DIR  this client's identity of a secured service's keystore (default
+                  $MONOCLE_SECURITY)
+)help";
+
+volatile std::sig_atomic_t g_stop = 0;
+void OnStopSignal(int) { g_stop = 1; }
+
+struct LiveFrame {
+  cv::Mat grey;
+  int64_t stamp_ns = 0;
+};
+
+void PutText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
+             const cv::Scalar& colour) {
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), 4,
+              cv::LINE_AA);
+  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+}
+
+CameraIntrinsics IntrinsicsOf(const Calibration& c) {
+  CameraIntrinsics k;
+  k.width_px = c.width_px;
+  k.height_px = c.height_px;
+  k.fx = c.fx;
+  k.fy = c.fy;
+  k.cx = c.cx;
+  k.cy = c.cy;
+  k.distortion = c.distortion;
+  return k;
+}
+
+// The corner camera's picture: the pose of this very frame (or why there is none).
+void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::optional<Pose>& pose) {
+  if (!pose) {
+    PutText(image, "no pose for this frame (the service skipped it while busy)", {12, 32}, 0.7,
+            cv::Scalar(0, 200, 255));
+    return;
+  }
+  if (!pose->valid) {
+    PutText(image, "no corner: " + pose->error, {12, 32}, 0.6, cv::Scalar(0, 0, 255));
+    return;
+  }
+  const CornerPose p{pose->x_m,     pose->y_m,      pose->z_m,
+                     pose->pan_rad, pose->tilt_rad, pose->swing_rad};
+  const cv::Point corner(static_cast<int>(std::lround(pose->corner_px[0])),
+                         static_cast<int>(std::lround(pose->corner_px[1])));
+  const cv::Scalar colours[3] = {cv::Scalar(110, 110, 255), cv::Scalar(110, 255, 110),
+                                 cv::Scalar(255, 190, 110)};
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<cv::Point> curve{corner};
+    for (const auto& px : PredictEdgePx(k, p, axis, 4))
+      curve.emplace_back(static_cast<int>(std::lround(px.x())),
+                         static_cast<int>(std::lround(px.y())));
+    cv::polylines(image, curve, false, cv::Scalar(0, 0, 0), 4, cv::LINE_AA);
+    cv::polylines(image, curve, false, colours[axis], 2, cv::LINE_AA);
+    if (curve.size() > 30) {
+      PutText(image,
+              axis == 0   ? "X"
+              : axis == 1 ? "Y"
+                          : "Z",
+              curve[curve.size() * 3 / 4], 0.9, colours[axis]);
+    }
+  }
+  cv::circle(image, corner, 8, cv::Scalar(0, 255, 255), 2, cv::LINE_AA);
+  std::ostringstream line;
+  line << std::fixed << std::setprecision(3) << "x " << p.x_m << " y " << p.y_m << " z " << p.z_m
+       << " m  pan " << std::setprecision(2) << p.pan_rad * kDeg << " tilt " << p.tilt_rad * kDeg
+       << " swing " << p.swing_rad * kDeg << " deg";
+  PutText(image, line.str(), {12, 32}, 0.8, cv::Scalar(0, 255, 255));
+  std::ostringstream second;
+  second << std::fixed << std::setprecision(1) << "1 sigma x "
+         << std::sqrt(pose->covariance[0]) * 1000 << " mm, y "
+         << std::sqrt(pose->covariance[6]) * 1000 << " mm  rms " << std::setprecision(2)
+         << pose->rms_px << " px  " << (pose->tracked ? "tracked" : "detected");
+  PutText(image, second.str(), {12, 62}, 0.6, cv::Scalar(0, 255, 255));
+  if (pose->suspect)
+    PutText(image, "SUSPECT: " + pose->suspect_reason, {12, 90}, 0.6, cv::Scalar(0, 0, 255));
+}
+
+}  // namespace
+
+int ViewCommand(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kViewHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(
+      argv,
+      {{"--camera", "--out", "--every", "--count", "--domain", "--timeout", "--security"}, {}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (!args->positionals().empty())
+    return Fail("unexpected argument '" + args->positionals()[0] + "' (see --help)", kExitUsage);
+  const auto camera = args->Require("--camera");
+  if (!camera) return Fail(camera.error(), kExitUsage);
+  const auto out = args->Require("--out");
+  if (!out) return Fail(out.error(), kExitUsage);
+  const auto every_s = args->GetDouble("--every", 0);
+  if (!every_s || *every_s < 0 || *every_s > 86400)
+    return Fail("--every must be 0..86400 seconds", kExitUsage);
+  const auto count = args->GetDouble("--count", *every_s > 0 ? 1e18 : 1);
+  if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
+  const auto timeout_s = args->GetDouble("--timeout", 10);
+  if (!timeout_s || !(*timeout_s > 0)) return Fail("--timeout must be > 0 seconds", kExitUsage);
+  if (auto ext = std::filesystem::path(*out).extension().string();
+      !cv::haveImageWriter(*out) || ext.empty()) {
+    return Fail("--out " + *out + ": give an image file name, e.g. live.png", kExitUsage);
+  }
+
+  int status = kExitOk;
+  auto client = OpenClient(*args, &status);
+  if (!client) return status;
+  // Which camera, where its topics are, and how it is calibrated.
+  auto cameras = client->status();
+  if (!cameras) return Fail(cameras.error());
+  std::optional<CameraStatus> cam;
+  std::string known;
+  for (const auto& c : *cameras) {
+    known += (known.empty() ? "" : ", ") + c.camera_id;
+    if (c.camera_id == *camera) cam = c;
+  }
+  if (!cam) {
+    return Fail("no camera '" + *camera + "' on DDS domain " +
+                    std::to_string(static_cast<int>(*args->GetDouble("--domain", 0))) +
+                    (known.empty() ? " (no service answered)" : " (cameras: " + known + ")"),
+                kExitFailure);
+  }
+  auto calibrations = client->calibrations();
+  if (!calibrations) return Fail(calibrations.error());
+  std::optional<Calibration> calibration;
+  for (const auto& c : *calibrations)
+    if (c.camera_id == *camera) calibration = c;
+  if (!calibration)
+    return Fail("the service published no calibration of '" + *camera + "'", kExitFailure);
+  const CameraIntrinsics k = IntrinsicsOf(*calibration);
+  const bool corner = cam->role != "floor";
+
+  // Poses of this camera, kept for a moment to meet their frames.
+  std::mutex mutex;
+  std::deque<Pose> poses;
+  std::optional<Subscription> subscription;
+  if (corner) {
+    auto sub = client->subscribe_poses(
+        [&](const Pose& p) {
+          std::lock_guard<std::mutex> lock(mutex);
+          poses.push_back(p);
+          if (poses.size() > 200) poses.pop_front();
+        },
+        *camera);
+    if (!sub) return Fail(sub.error());
+    subscription.emplace(std::move(*sub));
+  }
+  std::string security = args->Get("--security").value_or("");
+  if (security.empty()) {
+    if (const char* env = std::getenv("MONOCLE_SECURITY")) security = env;
+  }
+  auto participant = dds::CreateParticipant(
+      static_cast<dds_domainid_t>(*args->GetDouble("--domain", 0)), security);
+  if (!participant) return Fail(participant.error(), kExitFailure);
+  const std::string topic = wire::RosTopic(cam->ros_namespace, "image_raw");
+  auto images = dds::Endpoint<sensor_msgs_msg_dds__Image_>::Open(
+      *participant, &sensor_msgs_msg_dds__Image__desc, topic.c_str(), false, true,
+      wire::kRosDefaultQos);
+  if (!images) return Fail(images.error(), kExitFailure);
+
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
+  int saved = 0;
+  auto next_due = std::chrono::steady_clock::now();
+  while (!g_stop && saved < *count) {
+    // The next frame after the picture is due.
+    std::optional<LiveFrame> frame;
+    const auto give_up = std::max(std::chrono::steady_clock::now(), next_due) +
+                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(*timeout_s));
+    while (!frame && !g_stop && std::chrono::steady_clock::now() < give_up) {
+      auto taken = images->Take<LiveFrame>(std::chrono::milliseconds(200), [](const auto& s) {
+        LiveFrame f;
+        if (std::string(s.encoding ? s.encoding : "") == "mono8" && s.width > 0 &&
+            static_cast<uint64_t>(s.step) * s.height == s.data._length && s.step >= s.width) {
+          f.grey = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_8UC1,
+                           s.data._buffer, s.step)
+                       .clone();
+        }
+        f.stamp_ns = int64_t{s.header.stamp.sec} * 1000000000 + s.header.stamp.nanosec;
+        return f;
+      });
+      if (!taken) return Fail(taken.error(), kExitFailure);
+      if (std::chrono::steady_clock::now() < next_due) continue;
+      for (auto& f : *taken)
+        if (!f.grey.empty()) frame = std::move(f);
+    }
+    if (g_stop) break;
+    if (!frame) {
+      return Fail("no frame from camera '" + *camera + "' on " + topic + " within " +
+                      std::to_string(static_cast<int>(*timeout_s)) +
+                      " s (camera state: " + ToString(cam->state) +
+                      (cam->last_error.empty() ? "" : ", " + cam->last_error) + ")",
+                  kExitFailure);
+    }
+    cv::Mat picture;
+    cv::cvtColor(frame->grey, picture, cv::COLOR_GRAY2BGR);
+    if (corner) {
+      // Its pose is published once the frame is processed: wait a moment for it.
+      std::optional<Pose> pose;
+      for (int i = 0; i < 50 && !pose; ++i) {
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          for (const auto& p : poses)
+            if (p.capture_time_ns == frame->stamp_ns) pose = p;
+        }
+        if (!pose) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      DrawCornerView(picture, k, pose);
+    } else if (calibration->floor) {
+      const FloorPose floor{calibration->floor->height_m, calibration->floor->pitch_rad,
+                            calibration->floor->yaw_rad, calibration->floor->roll_rad};
+      DrawFloorFrame(picture, k, floor);
+      std::ostringstream caption;
+      caption << std::fixed << std::setprecision(3) << "floor: h " << floor.height_m << " m  pitch "
+              << std::setprecision(2) << floor.pitch_rad * kDeg << " deg  (rev "
+              << calibration->revision << ")";
+      PutText(picture, caption.str(), {12, 32}, 0.8, cv::Scalar(0, 255, 255));
+    } else {
+      PutText(picture, "floor camera without a floor calibration: `monocle floor calibrate`",
+              {12, 32}, 0.7, cv::Scalar(0, 0, 255));
+    }
+    std::ostringstream stamp;
+    stamp << cam->camera_id << "  frame at " << frame->stamp_ns << " ns";
+    PutText(picture, stamp.str(), {12, picture.rows - 40}, 0.5, cv::Scalar(255, 255, 255));
+    // Replaced in one step (rename), so a viewer polling the file never reads half a picture.
+    const std::string partial =
+        *out + ".partial" + std::filesystem::path(*out).extension().string();
+    if (Status s = WriteImage(partial, picture); !s) return Fail(s.error(), kExitFailure);
+    std::error_code ec;
+    std::filesystem::rename(partial, *out, ec);
+    if (ec) return Fail("cannot write " + *out + ": " + ec.message(), kExitFailure);
+    ++saved;
+    std::cout << "saved " << *out << " (" << cam->camera_id << ", frame at " << frame->stamp_ns
+              << " ns)" << std::endl;
+    next_due = std::chrono::steady_clock::now() +
+               std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                   std::chrono::duration<double>(*every_s));
+  }
+  return kExitOk;
+}
+
+}  // namespace monocle::cli
