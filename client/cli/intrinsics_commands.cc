@@ -12,6 +12,7 @@
 
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "client/cli/progress.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/vision/chessboard.h"
@@ -59,20 +60,6 @@ image size.
 constexpr double kResidualMagnification = 100;
 
 // "\rdetecting boards 12/55" on a terminal, nothing otherwise.
-class Progress {
- public:
-  Progress() : terminal_(isatty(STDERR_FILENO) != 0) {}
-  void Show(const std::string& what, size_t done, size_t total) const {
-    if (terminal_) std::cerr << "\r" << what << " " << done << "/" << total << std::flush;
-  }
-  void Done() const {
-    if (terminal_) std::cerr << "\r\033[K" << std::flush;
-  }
-
- private:
-  bool terminal_;
-};
-
 cv::Mat ToColour(const cv::Mat& grey) {
   cv::Mat colour;
   cv::cvtColor(grey, colour, cv::COLOR_GRAY2BGR);
@@ -167,9 +154,9 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   std::vector<IntrinsicView> views;
   std::vector<std::string> view_paths;
   cv::Size size;
-  const Progress progress;
+  ProgressLine progress("detecting boards", paths.size());
   for (size_t n = 0; n < paths.size(); ++n) {
-    progress.Show("detecting boards", n, paths.size());
+    progress.Update(n);
     const auto& path = paths[n];
     const auto image = ReadGreyImage(path);
     if (!image) return Fail(image.error(), kExitFailure);
@@ -187,7 +174,8 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
     }
     views.push_back({path, std::move(*board)});
   }
-  progress.Show("calibrating", views.size(), paths.size());
+  progress.Message("calibrating from " + std::to_string(views.size()) + " of " +
+                   std::to_string(paths.size()) + " images...");
   if (views.size() < 3) {
     progress.Done();
     return Fail("the board was found in only " + std::to_string(views.size()) +

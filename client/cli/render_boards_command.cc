@@ -10,6 +10,7 @@
 #include "camera/render/board_renderer.h"
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "client/cli/progress.h"
 #include "service/io/calibration_file.h"
 
 namespace monocle::cli {
@@ -81,9 +82,9 @@ int RenderBoards(const std::vector<std::string>& argv) {
                     " board fit the image; use a smaller board",
                 kExitFailure);
   }
-  const bool terminal = isatty(STDERR_FILENO) != 0;
+  ProgressLine progress("rendering views", poses.size());
   for (size_t i = 0; i < poses.size(); ++i) {
-    if (terminal) std::cerr << "\rrendering " << i << "/" << poses.size() << std::flush;
+    progress.Update(i);
     CheckerPattern pattern = base;
     BoardLook look;
     if (!args->Has("--clean")) look = RandomBoardLook(base_seed * 1000 + i, k, &pattern);
@@ -92,7 +93,7 @@ int RenderBoards(const std::vector<std::string>& argv) {
     const cv::Mat image = RenderBoardView(k, poses[i], pattern, look, base_seed * 1000 + i);
     if (auto w = WriteImage(name.str(), image); !w) return Fail(w.error(), kExitFailure);
   }
-  if (terminal) std::cerr << "\r\033[K";
+  progress.Done();
   std::cout << "wrote " << poses.size() << " views to " << *dir << "\n";
   return kExitOk;
 }

@@ -13,6 +13,7 @@
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
+#include "client/cli/progress.h"
 #include "service/io/calibration_file.h"
 #include "service/vision/corner_tracker.h"
 
@@ -59,33 +60,6 @@ struct ReplayedCamera {
 bool IsCorner(const RecordedCamera& cam) {
   return cam.role == "corner" || cam.role == "corner+floor" || cam.role.empty();
 }
-
-// Progress on stderr, redrawn in place, only when stderr is a terminal and stdout is not
-// (on a terminal the poses themselves show the progress).
-class ProgressLine {
- public:
-  explicit ProgressLine(uint64_t total)
-      : total_(total), shown_(isatty(STDERR_FILENO) == 1 && isatty(STDOUT_FILENO) == 0) {}
-  void Update(uint64_t done) {
-    if (!shown_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (done < total_ && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    const double s = std::chrono::duration<double>(now - start_).count();
-    std::cerr << "\rreplay: frame " << done << "/" << total_ << " (" << std::fixed
-              << std::setprecision(0) << (total_ > 0 ? 100.0 * done / total_ : 100) << " %), "
-              << std::setprecision(1) << (s > 0 ? done / s : 0) << " frames/s   " << std::flush;
-  }
-  void Done() {
-    if (shown_) std::cerr << "\n";
-  }
-
- private:
-  uint64_t total_;
-  bool shown_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  std::chrono::steady_clock::time_point last_{};
-};
 
 }  // namespace
 
@@ -205,7 +179,9 @@ int ReplayCommand(const std::vector<std::string>& argv) {
     if (Status s = advance(r); !s) return Fail(s.error(), kExitFailure);
   }
   const bool json = args->Has("--json");
-  ProgressLine progress(total);
+  // On a terminal the poses themselves show the progress: a line only when they go to a file.
+  ProgressLine progress("replaying frames", total,
+                        isatty(STDERR_FILENO) == 1 && isatty(STDOUT_FILENO) == 0);
   uint64_t done = 0;
   bool any_failed = false;
   while (true) {

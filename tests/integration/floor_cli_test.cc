@@ -316,3 +316,45 @@ TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViewsWithItsSigma) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// Long work draws a progress line on a terminal (a pseudo-terminal from util-linux's
+// `script`) and nothing when its output goes to a file or a pipe.
+TEST(ProgressLineTest, DrawnOnATerminalOnly) {
+  TempDir dir("monocle_progress");
+  CameraCalibration truth;
+  truth.intrinsics = testing::SmallWideAngleCamera();
+  ASSERT_TRUE(SaveCalibrationFileAtomically(dir / "truth.pbtxt", truth).ok());
+  const std::string render = testing::MonocleBinary() + " render boards --calibration " +
+                             dir / "truth.pbtxt" + " --board 7x5 --square 0.03 --views 4 --seed 3";
+  // On a terminal: the line, with its count and percentage.
+  const std::string on_tty = "script -qefc '" + render + " --out-dir " + dir / "tty" + "' " +
+                             dir / "typescript" + " > " + dir / "tty.txt" + " 2>&1";
+  ASSERT_EQ(std::system(on_tty.c_str()), 0) << testing::ReadFile(dir / "tty.txt");
+  const std::string tty = testing::ReadFile(dir / "tty.txt");
+  EXPECT_NE(tty.find("rendering views 0/4 (0 %)"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("wrote 4 views"), std::string::npos) << tty;
+  // Not a terminal: no progress at all.
+  const auto plain = RunMonocle(
+      dir, "render boards --calibration " + dir / "truth.pbtxt" +
+               " --board 7x5 --square 0.03 --views 4 --seed 3 --out-dir " + dir / "plain");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("rendering"), std::string::npos) << plain.err;
+
+  std::string images;
+  for (int i = 1; i <= 4; ++i) images += " " + dir / ("tty/view-0" + std::to_string(i) + ".png");
+  const std::string calibrate = testing::MonocleBinary() +
+                                " intrinsics calibrate --board 7x5 --square 0.03 --out " +
+                                dir / "cal.pbtxt" + images;
+  const std::string calibrate_tty =
+      "script -qefc '" + calibrate + "' " + dir / "typescript" + " > " + dir / "cal.txt" + " 2>&1";
+  std::system(calibrate_tty.c_str());  // four views may be too few to converge: the line counts
+  const std::string cal = testing::ReadFile(dir / "cal.txt");
+  EXPECT_NE(cal.find("detecting boards 0/4"), std::string::npos) << cal;
+  EXPECT_NE(cal.find("calibrating from"), std::string::npos) << cal;
+}
+
+}  // namespace
+}  // namespace monocle
