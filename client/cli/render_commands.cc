@@ -100,11 +100,22 @@ int RenderCorner(const std::vector<std::string>& argv) {
 int RenderCommand(const std::vector<std::string>& argv) {
   if (!argv.empty() && argv[0] == "corner") return RenderCorner({argv.begin() + 1, argv.end()});
   if (!argv.empty() && argv[0] == "boards") return RenderBoards({argv.begin() + 1, argv.end()});
-  if (argv.empty() || argv[0] != "floor" || WantsHelp(argv)) {
-    std::cout << "Usage: monocle render floor|corner|boards ...  (monocle render boards --help)\n\n"
-              << kHelp << "\n"
-              << kCornerHelp;
-    return WantsHelp(argv) ? kExitOk : kExitUsage;
+  constexpr const char* kOverview =
+      "Usage: monocle render floor|corner|boards ...\n\n"
+      "  floor    a chessboard (and boxes) on the floor, as a floor camera sees it\n"
+      "  corner   a ceiling corner, as a corner camera sees it (clean, cluttered, realistic)\n"
+      "  boards   a set of chessboard views for intrinsics calibration\n\n"
+      "monocle render COMMAND --help for each command's options.\n";
+  if (argv.empty() || argv[0] == "--help" || argv[0] == "-h") {
+    (argv.empty() ? std::cerr : std::cout) << kOverview;
+    return argv.empty() ? kExitUsage : kExitOk;
+  }
+  if (argv[0] != "floor") {
+    return Fail("unknown render command '" + argv[0] + "' (floor, corner, boards)", kExitUsage);
+  }
+  if (WantsHelp({argv.begin() + 1, argv.end()})) {
+    std::cout << kHelp;
+    return kExitOk;
   }
   auto args =
       Args::Parse({argv.begin() + 1, argv.end()}, {{"--calibration", "--board", "--square", "--out",

@@ -161,3 +161,34 @@ TEST_F(CornerCliTest, AViewWithoutACornerSaysWhatWasSeen) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// Every command's --help is its own: exit status 0, its own usage line, and no other
+// command's (`render floor --help` once printed the corner help too).
+TEST(CommandLineHelpTest, EachCommandPrintsItsOwnHelp) {
+  TempDir dir("monocle_help");
+  for (const std::string command :
+       {"floor calibrate", "floor measure", "floor map", "corner locate", "intrinsics calibrate",
+        "render floor", "render corner", "render boards", "status", "record", "info", "replay",
+        "view", "security init", "cameras", "snapshot", "simcam"}) {
+    const auto r = testing::RunMonocle(dir, command + " --help");
+    EXPECT_EQ(r.exit_code, 0) << command;
+    EXPECT_EQ(r.out.rfind("Usage: monocle " + command, 0), 0u) << command << ":\n" << r.out;
+    size_t usages = 0;
+    for (size_t at = r.out.find("Usage:"); at != std::string::npos;
+         at = r.out.find("Usage:", at + 1))
+      ++usages;
+    EXPECT_EQ(usages, 1u) << command << " prints more than its own help:\n" << r.out;
+  }
+  const auto overview = testing::RunMonocle(dir, "render --help");
+  EXPECT_EQ(overview.exit_code, 0);
+  EXPECT_NE(overview.out.find("boards"), std::string::npos);
+  const auto unknown = testing::RunMonocle(dir, "render nope");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("unknown render command 'nope'"), std::string::npos) << unknown.err;
+}
+
+}  // namespace
+}  // namespace monocle
