@@ -1,8 +1,11 @@
 #include "client/cli/args.h"
 
+#include <CLI/CLI.hpp>
+
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 
 namespace monocle::cli {
@@ -29,42 +32,48 @@ std::optional<std::vector<double>> ParseNumberList(const std::string& text) {
 }
 
 Result<Args> Args::Parse(const std::vector<std::string>& argv, const ArgSpec& spec) {
-  Args args;
-  bool only_positionals = false;
-  for (size_t i = 0; i < argv.size(); ++i) {
-    const std::string& a = argv[i];
-    // "-12.5,3" is a (negative) number, not an option.
-    const bool negative_number = a.size() >= 2 && a[0] == '-' &&
-                                 (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.');
-    if (only_positionals || a.size() < 2 || a[0] != '-' || negative_number) {
-      args.positionals_.push_back(a);
-      continue;
-    }
-    if (a == "--") {
-      only_positionals = true;
-      continue;
-    }
-    std::string name = a, value;
-    bool has_inline_value = false;
-    if (const auto eq = a.find('='); eq != std::string::npos) {
-      name = a.substr(0, eq);
-      value = a.substr(eq + 1);
-      has_inline_value = true;
-    }
-    if (spec.flags.count(name)) {
-      if (has_inline_value) return MakeError(ErrorCode::kInvalidArgument, name + " takes no value");
-      args.flags_.insert(name);
-    } else if (spec.value_options.count(name)) {
-      if (!has_inline_value) {
-        if (i + 1 >= argv.size())
-          return MakeError(ErrorCode::kInvalidArgument, name + " needs a value");
-        value = argv[++i];
-      }
-      args.options_.emplace(name, value);
-    } else {
-      return MakeError(ErrorCode::kInvalidArgument, "unknown option " + name + " (see --help)");
-    }
+  // CLI11 reads a flag given a value ("--json=1") as set; monocle's flags take none.
+  for (const auto& a : argv) {
+    if (a == "--") break;
+    if (const auto eq = a.find('='); eq != std::string::npos && spec.flags.count(a.substr(0, eq)))
+      return MakeError(ErrorCode::kInvalidArgument, a.substr(0, eq) + " takes no value");
   }
+  CLI::App app;
+  app.set_help_flag();  // each command prints its own help before parsing (WantsHelp)
+  app.allow_extras();   // unknown options are reported below, in monocle's words
+  // Every value option may repeat (--box ... --box ...); each occurrence takes one value.
+  std::map<std::string, std::vector<std::string>> values;
+  for (const auto& name : spec.value_options) {
+    app.add_option(name, values[name])
+        ->allow_extra_args(false)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  }
+  std::map<std::string, CLI::Option*> flags;
+  for (const auto& name : spec.flags) flags[name] = app.add_flag(name);
+  // Positionals, in order; "-12.5,3" is a (negative) number, not an option.
+  std::vector<std::string> positionals;
+  app.add_option("positionals", positionals);
+  try {
+    // CLI11 takes a vector argument list last-first.
+    app.parse(std::vector<std::string>(argv.rbegin(), argv.rend()));
+  } catch (const CLI::ArgumentMismatch& e) {
+    const std::string what = e.what();
+    return MakeError(ErrorCode::kInvalidArgument,
+                     what.substr(0, what.find(':')) + " needs a value");
+  } catch (const CLI::ParseError& e) {
+    return MakeError(ErrorCode::kInvalidArgument, std::string(e.what()) + " (see --help)");
+  }
+  for (const auto& extra : app.remaining()) {
+    if (extra == "--") continue;
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "unknown option " + extra.substr(0, extra.find('=')) + " (see --help)");
+  }
+  Args args;
+  args.positionals_ = std::move(positionals);
+  for (const auto& [name, given] : values)
+    for (const auto& v : given) args.options_.emplace(name, v);
+  for (const auto& [name, option] : flags)
+    if (option->count() > 0) args.flags_.insert(name);
   return args;
 }
 

@@ -1,5 +1,7 @@
-// Minimal command-line parsing for the monocle tool: positionals, --name VALUE (or
-// --name=VALUE), repeatable options and boolean flags. Unknown options are errors.
+// The monocle tool's command line, parsed by CLI11 (Debian's libcli11-dev) behind one small
+// interface every command uses: positionals, --name VALUE (or --name=VALUE), repeatable
+// options and boolean flags; unknown options, missing values and flags given a value are
+// errors in monocle's own words (exit status 2 at the caller).
 #pragma once
 
 #include <map>

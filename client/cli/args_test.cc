@@ -18,10 +18,32 @@ TEST(ArgsTest, ParsesOptionsFlagsAndNegativeNumbers) {
   EXPECT_EQ(args->GetAll("--box").size(), 2u);
 }
 
-TEST(ArgsTest, RejectsUnknownOptionsAndMissingValues) {
-  EXPECT_FALSE(Args::Parse({"--bord", "9x6"}, kSpec).ok());
-  EXPECT_FALSE(Args::Parse({"--board"}, kSpec).ok());
-  EXPECT_FALSE(Args::Parse({"--json=1"}, kSpec).ok());
+TEST(ArgsTest, RejectsUnknownOptionsAndMissingValuesInMonoclesWords) {
+  const auto unknown = Args::Parse({"a.png", "--bord", "9x6"}, kSpec);
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_EQ(unknown.error().message, "unknown option --bord (see --help)");
+  const auto unknown_inline = Args::Parse({"--bord=9x6"}, kSpec);
+  ASSERT_FALSE(unknown_inline.ok());
+  EXPECT_EQ(unknown_inline.error().message, "unknown option --bord (see --help)");
+  const auto missing = Args::Parse({"a.png", "--board"}, kSpec);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, "--board needs a value");
+  const auto flag_value = Args::Parse({"--json=1"}, kSpec);
+  ASSERT_FALSE(flag_value.ok());
+  EXPECT_EQ(flag_value.error().message, "--json takes no value");
+}
+
+TEST(ArgsTest, KeepsPositionalOrderAndTheLastOfARepeatedOption) {
+  const auto args = Args::Parse(
+      {"a.png", "--board", "9x6", "b.png", "--board=7x5", "c.png", "--", "--json", "-x"}, kSpec);
+  ASSERT_TRUE(args.ok()) << args.error();
+  // After "--" everything is a positional, options included.
+  EXPECT_EQ(args->positionals(),
+            (std::vector<std::string>{"a.png", "b.png", "c.png", "--json", "-x"}));
+  EXPECT_FALSE(args->Has("--json"));
+  EXPECT_EQ(*args->Get("--board"), "7x5");
+  EXPECT_EQ(args->GetAll("--board"), (std::vector<std::string>{"9x6", "7x5"}));
+  EXPECT_FALSE(args->Get("--box").has_value());
 }
 
 TEST(ArgsTest, ParsesNumberLists) {
