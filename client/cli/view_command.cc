@@ -20,6 +20,7 @@
 #include "client/protocol/dds.h"
 #include "client/protocol/wire.h"
 #include "idl/ros2_messages.h"
+#include "service/io/calibration_file.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
@@ -61,18 +62,6 @@ void PutText(cv::Mat& image, const std::string& text, cv::Point at, double scale
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), 4,
               cv::LINE_AA);
   cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
-}
-
-CameraIntrinsics IntrinsicsOf(const Calibration& c) {
-  CameraIntrinsics k;
-  k.width_px = c.width_px;
-  k.height_px = c.height_px;
-  k.fx = c.fx;
-  k.fy = c.fy;
-  k.cx = c.cx;
-  k.cy = c.cy;
-  k.distortion = c.distortion;
-  return k;
 }
 
 // The corner camera's picture: the pose of this very frame (or why there is none).
@@ -177,7 +166,10 @@ int ViewCommand(const std::vector<std::string>& argv) {
     if (c.camera_id == *camera) calibration = c;
   if (!calibration)
     return Fail("the service published no calibration of '" + *camera + "'", kExitFailure);
-  const CameraIntrinsics k = IntrinsicsOf(*calibration);
+  // The calibration file's own text, as the service published it: intrinsics and floor pose.
+  auto file = ParseCalibration(calibration->text, "the service's calibration of '" + *camera + "'");
+  if (!file) return Fail(file.error(), kExitFailure);
+  const CameraIntrinsics k = file->intrinsics;
   const bool corner = cam->role != "floor";
 
   // Poses of this camera, kept for a moment to meet their frames.
@@ -257,9 +249,8 @@ int ViewCommand(const std::vector<std::string>& argv) {
         if (!pose) std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
       DrawCornerView(picture, k, pose);
-    } else if (calibration->floor) {
-      const FloorPose floor{calibration->floor->height_m, calibration->floor->pitch_rad,
-                            calibration->floor->yaw_rad, calibration->floor->roll_rad};
+    } else if (file->floor) {
+      const FloorPose& floor = file->floor->pose;
       DrawFloorFrame(picture, k, floor);
       std::ostringstream caption;
       caption << std::fixed << std::setprecision(3) << "floor: h " << floor.height_m << " m  pitch "
