@@ -1,5 +1,6 @@
 #include "camera/aravis/aravis_source.h"
 
+#include "camera/aravis/tsan_handoff.h"
 #include "camera/sim/sim_gv_camera.h"
 
 #include <arpa/inet.h>
@@ -11,6 +12,14 @@
 #include <sstream>
 
 namespace monocle {
+
+namespace {
+// Gives a buffer back to the stream for the camera to fill again (tsan_handoff.h).
+void Requeue(ArvStream* stream, ArvBuffer* buffer) {
+  BufferHandedOver(buffer);
+  arv_stream_push_buffer(stream, buffer);
+}
+}  // namespace
 namespace {
 
 Error Fail(ErrorCode code, const std::string& message) { return MakeError(code, message); }
@@ -332,7 +341,7 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Start(std::unique_ptr<Aravis
     }
   }
   for (int i = 0; i < std::max(options.buffers, 2); ++i) {
-    arv_stream_push_buffer(src->stream_->get(), arv_buffer_new_allocate(payload));
+    Requeue(src->stream_->get(), arv_buffer_new_allocate(payload));
   }
   arv_camera_start_acquisition(cam, err.out());
   if (err.failed()) return Fail(ErrorCode::kIo, "cannot start acquisition: " + err.message());
@@ -362,14 +371,15 @@ Result<Frame> AravisSource::Next(std::chrono::milliseconds timeout) {
     ArvBuffer* buffer =
         arv_stream_timeout_pop_buffer(stream_->get(), static_cast<guint64>(left.count()));
     if (buffer == nullptr) continue;
+    BufferTakenOver(buffer);
     if (arv_buffer_get_status(buffer) != ARV_BUFFER_STATUS_SUCCESS) {
       ++dropped_;
-      arv_stream_push_buffer(stream_->get(), buffer);
+      Requeue(stream_->get(), buffer);
       continue;
     }
     auto grey = GreyView(buffer, payload_);
     if (!grey) {
-      arv_stream_push_buffer(stream_->get(), buffer);
+      Requeue(stream_->get(), buffer);
       return Fail(ErrorCode::kInvalidArgument,
                   "camera '" + id_ + "' sent a frame in a pixel format monocle cannot read");
     }
@@ -387,11 +397,10 @@ Result<Frame> AravisSource::Next(std::chrono::milliseconds timeout) {
     if (view) {
       // Zero copy: the frame returns the buffer to the stream when the last user lets go.
       auto stream = stream_;
-      f.keepalive = std::shared_ptr<void>(buffer, [stream](void* b) {
-        arv_stream_push_buffer(stream->get(), static_cast<ArvBuffer*>(b));
-      });
+      f.keepalive = std::shared_ptr<void>(
+          buffer, [stream](void* b) { Requeue(stream->get(), static_cast<ArvBuffer*>(b)); });
     } else {
-      arv_stream_push_buffer(stream_->get(), buffer);
+      Requeue(stream_->get(), buffer);
     }
     return f;
   }

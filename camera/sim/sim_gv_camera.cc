@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "camera/aravis/tsan_handoff.h"
 #include "camera/render/corner_renderer.h"
 #include "camera/render/floor_renderer.h"
 #include "service/io/bounded_file.h"
@@ -147,6 +148,7 @@ SimGvCamera::~SimGvCamera() {
 
 void SimScenes::Fill(ArvBuffer* buffer, void* self_ptr, guint32, guint32, ArvPixelFormat format) {
   auto* self = static_cast<SimScenes*>(self_ptr);
+  BufferTakenOver(buffer);
   // Inside the fill callback the buffer's data size reads 0 (nothing received yet): size the
   // copy by the image width and height the camera set, which its payload always covers.
   auto* data = static_cast<uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, nullptr)));
@@ -161,6 +163,7 @@ void SimScenes::Fill(ArvBuffer* buffer, void* self_ptr, guint32, guint32, ArvPix
   // simulated frame exists only once copied, so it is complete now: stamp it so, as a real
   // camera's frame is stamped when its data arrives, not before our own copying.
   arv_buffer_set_system_timestamp(buffer, static_cast<guint64>(g_get_real_time()) * 1000);
+  BufferHandedOver(buffer);
 }
 
 }  // namespace monocle
