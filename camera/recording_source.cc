@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <thread>
+#include <type_traits>
 
 #include "client/protocol/cdr.h"
 #include "idl/monocle_msgs.h"
@@ -50,39 +51,51 @@ Result<std::vector<RecordedCamera>> ListRecordedCameras(const std::string& mcap_
   }
   Error bad = MakeError(ErrorCode::kInvalidArgument, "");
   bool failed = false;
+  // The first sample of type T for each framed camera still in `need`, handed to `take`.
+  auto first_per_camera = [&](const mcap::Message& m, const dds_topic_descriptor_t* type,
+                              const std::string& what, std::set<std::string>& need,
+                              auto take) -> bool {
+    using Sample = std::remove_cvref_t<decltype(*take.sample_type)>;
+    auto s = dds::DecodedSample<Sample>::Decode(type, m.data);
+    if (s == nullptr) {
+      bad = MakeError(ErrorCode::kInvalidArgument, mcap_path + ": a " + what);
+      failed = true;
+      return false;
+    }
+    const auto it = by_namespace.find(Str(s->get().ros_namespace));
+    if (it != by_namespace.end() && need.erase(it->first) == 1) take(s->get(), it->second);
+    return true;
+  };
+  struct TakeStatus {
+    const monocle_msgs_msg_dds__CameraStatus_* sample_type = nullptr;
+    void operator()(const monocle_msgs_msg_dds__CameraStatus_& s, RecordedCamera& cam) const {
+      cam.id = Str(s.camera);
+      cam.role = Str(s.role);
+      cam.device = Str(s.device);
+    }
+  };
+  struct TakeCalibration {
+    const monocle_msgs_msg_dds__Calibration_* sample_type = nullptr;
+    void operator()(const monocle_msgs_msg_dds__Calibration_& c, RecordedCamera& cam) const {
+      if (cam.id.empty()) cam.id = Str(c.camera);
+      cam.calibration_text = Str(c.text);
+      cam.calibration_file = Str(c.file);
+      if (c.has_ceiling) cam.ceiling_distance_m = c.ceiling_distance_m;
+    }
+  };
   const Status walked =
       reader->ForEachMessage([&](const mcap::ChannelInfo& ch, const mcap::Message& m) {
-        if (ch.topic == kCamerasChannel) {
-          auto s = dds::DecodedSample<monocle_msgs_msg_dds__CameraStatus_>::Decode(
-              &monocle_msgs_msg_dds__CameraStatus__desc, m.data);
-          if (s == nullptr) {
-            bad = MakeError(ErrorCode::kInvalidArgument,
-                            mcap_path + ": a /monocle/cameras message is not a CameraStatus");
-            failed = true;
-            return false;
-          }
-          const auto it = by_namespace.find(Str(s->get().ros_namespace));
-          if (it != by_namespace.end() && need_status.erase(it->first) == 1) {
-            it->second.id = Str(s->get().camera);
-            it->second.role = Str(s->get().role);
-            it->second.device = Str(s->get().device);
-          }
-        } else if (ch.topic == kCalibrationsChannel) {
-          auto c = dds::DecodedSample<monocle_msgs_msg_dds__Calibration_>::Decode(
-              &monocle_msgs_msg_dds__Calibration__desc, m.data);
-          if (c == nullptr) {
-            bad = MakeError(ErrorCode::kInvalidArgument,
-                            mcap_path + ": a /monocle/calibrations message is not a Calibration");
-            failed = true;
-            return false;
-          }
-          const auto it = by_namespace.find(Str(c->get().ros_namespace));
-          if (it != by_namespace.end() && need_calibration.erase(it->first) == 1) {
-            if (it->second.id.empty()) it->second.id = Str(c->get().camera);
-            it->second.calibration_text = Str(c->get().text);
-            it->second.calibration_file = Str(c->get().file);
-            if (c->get().has_ceiling) it->second.ceiling_distance_m = c->get().ceiling_distance_m;
-          }
+        if (ch.topic == kCamerasChannel &&
+            !first_per_camera(m, &monocle_msgs_msg_dds__CameraStatus__desc,
+                              "/monocle/cameras message is not a CameraStatus", need_status,
+                              TakeStatus{})) {
+          return false;
+        }
+        if (ch.topic == kCalibrationsChannel &&
+            !first_per_camera(m, &monocle_msgs_msg_dds__Calibration__desc,
+                              "/monocle/calibrations message is not a Calibration",
+                              need_calibration, TakeCalibration{})) {
+          return false;
         }
         return !need_status.empty() || !need_calibration.empty();
       });
