@@ -394,7 +394,13 @@ Result<Frame> AravisSource::Next(std::chrono::milliseconds timeout) {
     f.device_time_ns = static_cast<int64_t>(arv_buffer_get_timestamp(buffer));
     const bool view = grey->data == arv_buffer_get_image_data(buffer, nullptr);
     f.grey = *grey;
-    if (view) {
+    if (view && kThreadSanitizer) {
+      {
+        IgnoredReadsOfForeignBuffer ignore;
+        f.grey = grey->clone();
+      }
+      Requeue(stream_->get(), buffer);
+    } else if (view) {
       // Zero copy: the frame returns the buffer to the stream when the last user lets go.
       auto stream = stream_;
       f.keepalive = std::shared_ptr<void>(

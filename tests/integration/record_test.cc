@@ -101,7 +101,13 @@ TEST_F(RecordTest, TheRecordingHoldsExactlyWhatTheClientReceived) {
   });
   ASSERT_TRUE(sub.ok()) << sub.error();
   std::vector<std::vector<MeasuredPoint>> answers;
-  for (int i = 0; i < 5; ++i) {
+  // At least 5 requests, and until more than 5 poses arrived (a slow build, e.g. under
+  // ThreadSanitizer, publishes a pose or two a second).
+  auto enough_poses = [&] {
+    std::lock_guard lock(mutex);
+    return received.size() > 5;
+  };
+  for (int i = 0; i < 120 && (i < 5 || !enough_poses()); ++i) {
     auto points = client_->measure(
         "floor", {PixelQuery{640.0 + i, 900.0, std::nullopt}, PixelQuery{100, 1000, std::nullopt}});
     ASSERT_TRUE(points.ok()) << points.error();

@@ -39,6 +39,9 @@ using testing::RunMonocle;
 
 constexpr int kLiveDomain = 73;
 constexpr int kReplayDomain = 75;
+// Live poses to collect: more under ThreadSanitizer, where the recorder keeps fewer frames.
+// (About one pose a second there.)
+constexpr size_t kLivePoses = testing::kThreadSanitizer ? 60 : 40;
 
 bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -109,10 +112,10 @@ camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtx
     live[p.capture_time_ns] = p;
   });
   ASSERT_TRUE(sub.ok()) << sub.error();
-  for (int i = 0; i < 600; ++i) {
+  for (int i = 0; i < 1800; ++i) {
     {
       std::lock_guard lock(mutex);
-      if (live.size() >= 40) break;
+      if (live.size() >= kLivePoses) break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
@@ -123,7 +126,7 @@ camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtx
   monocled_.reset();
   {
     std::lock_guard lock(mutex);
-    ASSERT_GE(live.size(), 40u) << "the live service published too few poses";
+    ASSERT_GE(live.size(), kLivePoses) << "the live service published too few poses";
   }
 
   // What the recording holds: the corner camera's frames and the poses published live.
@@ -186,8 +189,12 @@ camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtx
             << " detected in both (bit for bit)\n";
   EXPECT_GE(compared, 30);
   EXPECT_GE(identical_detections, 10);
-  EXPECT_LE(frame_not_recorded, static_cast<int>(recorded_poses.size()) / 4)
-      << "the recorder missed most frames";
+  // Under ThreadSanitizer every memory access is instrumented and a 1.3 MB frame's copy into
+  // the recording takes ten times as long: the recorder keeps fewer frames there, and only
+  // "most frames recorded" is asserted.
+  const int missed_allowed =
+      static_cast<int>(recorded_poses.size()) / (testing::kThreadSanitizer ? 2 : 4);
+  EXPECT_LE(frame_not_recorded, missed_allowed) << "the recorder missed most frames";
 
   // monocled --replay: the recording served as if live, on another domain.
   const std::string state_dir = dir_ / "replay-state";

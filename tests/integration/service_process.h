@@ -16,6 +16,14 @@
 
 namespace monocle::testing {
 
+// A ThreadSanitizer build (MONOCLE_TSAN, CMakeLists.txt): every memory access instrumented,
+// the service several times slower. Tests that count work done in a time window say so.
+#if defined(MONOCLE_TSAN)
+inline constexpr bool kThreadSanitizer = true;
+#else
+inline constexpr bool kThreadSanitizer = false;
+#endif
+
 // Discovery over loopback only, no multicast needed (docker/cyclonedds-loopback.xml). Set
 // before the first DDS participant; child processes inherit it.
 inline void UseLoopbackDds() {
