@@ -1,0 +1,79 @@
+// The robot's pose in the map frame from a corner pose (Chou & Tsai in whichever corner's
+// frame): which corner of the map it is, decided by what is consistent, never guessed.
+// Pure geometry: Eigen only, no I/O.
+//
+// Every map corner is tried. The camera's height above the floor (its mount) gives each
+// corner's ceiling distance; the corner pose scales with it exactly (the image of a corner
+// fixes the camera's position only up to scale). A candidate is consistent when the camera is
+// inside the corner's room and sees the corner with no wall between, and, given a prior (the
+// previous pose, or one the user gives), lies within its gates. How far the edges were seen
+// along the walls counts too: a wall shorter than the edge seen on it is not that wall. One
+// consistent candidate is the answer; several are reported as ambiguous, with all of them.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "service/geometry/camera_model.h"
+#include "service/geometry/corner_pose.h"
+#include "service/geometry/robot_frames.h"
+#include "service/geometry/room_map.h"
+
+namespace monocle {
+
+// The robot base on the floor: x, y in the map (metres), heading of its x axis (radians from
+// the map's +x towards +y).
+struct BasePose2d {
+  double x_m = 0, y_m = 0, heading_rad = 0;
+};
+std::ostream& operator<<(std::ostream& os, const BasePose2d& p);
+
+struct MapPosePrior {
+  BasePose2d base;
+  double max_distance_m = 0.5;   // how far the base may have moved since
+  double max_heading_rad = 0.5;  // how far it may have turned
+};
+
+struct MapPoseCandidate {
+  std::string corner_id, room_id;
+  CornerPose corner_pose;     // in that corner's frame, at its ceiling distance
+  RigidTransform map_camera;  // the optical frame in the map
+  BasePose2d base;
+  Eigen::Matrix3d base_covariance = Eigen::Matrix3d::Zero();  // x, y, heading: m^2, rad^2
+};
+
+struct MapLocation {
+  std::vector<MapPoseCandidate> consistent;  // best first (closest to the prior, if any)
+  bool prior_contradicted = false;           // a prior was given and no candidate met its gates
+  std::string why_none;                      // when `consistent` is empty
+  bool ambiguous() const { return consistent.size() > 1; }
+};
+
+// How far from the corner each edge (X, Y, Z) was seen, in the units of the pose it was
+// solved with (pose.z_m); 0 where not known.
+using SeenEdgeExtents = std::array<double, 3>;
+
+// The distance from the corner, along `axis` (0 X, 1 Y, 2 Z), of the edge point seen at pixel
+// `end_px`: where the pixel's ray passes closest to the axis. 0 if the ray runs parallel.
+double SeenEdgeExtent(const CameraIntrinsics& intrinsics, const CornerPose& pose, int axis,
+                      const Eigen::Vector2d& end_px);
+
+// `pose` was solved at ceiling distance pose.z_m, with covariance `covariance` of (x, y, pan,
+// tilt, swing) (m^2, rad^2). `base_camera`: the mount, its translation's z the optical
+// centre's height above the floor.
+MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
+                        const CornerPose& pose, const Eigen::Matrix<double, 5, 5>& covariance,
+                        const std::optional<MapPosePrior>& prior,
+                        const SeenEdgeExtents& seen_extents = {0, 0, 0});
+
+// The same for one given corner (no consistency test): the corner pose scaled to the
+// corner's ceiling distance, and the camera and base in the map.
+MapPoseCandidate PoseInMapFromCorner(const MapCorner& corner, const RigidTransform& base_camera,
+                                     const CornerPose& pose,
+                                     const Eigen::Matrix<double, 5, 5>& covariance);
+
+}  // namespace monocle
