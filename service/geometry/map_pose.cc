@@ -73,6 +73,20 @@ double SeenEdgeExtent(const CameraIntrinsics& intrinsics, const CornerPose& pose
   return std::max(0.0, s);
 }
 
+SeenEdgeExtents SeenEdgeExtentsAtLeast(const CameraIntrinsics& intrinsics, const CornerPose& pose,
+                                       const Eigen::Vector2d& corner_px,
+                                       const std::array<Eigen::Vector2d, 3>& end_px,
+                                       double margin_px) {
+  SeenEdgeExtents out{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const Eigen::Vector2d along = end_px[axis] - corner_px;
+    if (along.norm() <= margin_px) continue;
+    out[axis] =
+        SeenEdgeExtent(intrinsics, pose, axis, end_px[axis] - margin_px * along.normalized());
+  }
+  return out;
+}
+
 std::ostream& operator<<(std::ostream& os, const BasePose2d& p) {
   return os << "BasePose2d{x " << p.x_m << " m, y " << p.y_m << " m, heading "
             << p.heading_rad * 180 / M_PI << " deg}";
@@ -131,13 +145,14 @@ MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
         ++hidden;
         continue;
       }
-      // An edge seen further than its wall runs is another wall. Allowance: 10 % (the seen
-      // end's ray meets the edge at a grazing angle far away) and 0.15 m (blur at the end).
+      // An edge seen further than its wall runs is another wall. Allowance: 25 % (the seen
+      // end's ray meets the edge at a grazing angle far away) and 0.3 m (where the next wall's
+      // edge runs on nearly in line in the image, its first points join the fit).
       const double scale = c.corner_pose.z_m / pose.z_m;
       bool fits = true;
       for (int axis = 0; axis < 3; ++axis) {
         const double seen_m = seen_extents[axis] * scale;
-        if (seen_m > 1.1 * WallLength(room, corner, axis) + 0.15) fits = false;
+        if (seen_m > 1.25 * WallLength(room, corner, axis) + 0.3) fits = false;
       }
       if (!fits) {
         ++too_short;

@@ -62,6 +62,14 @@ using SeenEdgeExtents = std::array<double, 3>;
 double SeenEdgeExtent(const CameraIntrinsics& intrinsics, const CornerPose& pose, int axis,
                       const Eigen::Vector2d& end_px);
 
+// What the edges' far ends (`end_px`, X Y Z) show for certain: each end taken `margin_px`
+// back towards the corner first. An edge seen at a grazing angle (the camera nearly under
+// it) runs towards its vanishing point, where a pixel spans metres of the edge.
+SeenEdgeExtents SeenEdgeExtentsAtLeast(const CameraIntrinsics& intrinsics, const CornerPose& pose,
+                                       const Eigen::Vector2d& corner_px,
+                                       const std::array<Eigen::Vector2d, 3>& end_px,
+                                       double margin_px = 3);
+
 // `pose` was solved at ceiling distance pose.z_m, with covariance `covariance` of (x, y, pan,
 // tilt, swing) (m^2, rad^2). `base_camera`: the mount, its translation's z the optical
 // centre's height above the floor.

@@ -145,15 +145,16 @@ TEST(MapPoseTest, HowFarTheEdgesAreSeenTellsTheLRoomsCornersApart) {
   ASSERT_NE(Find(position_only, east.id), nullptr);
   ASSERT_NE(Find(position_only, "L-0"), nullptr);
   ASSERT_NE(Find(position_only, "L-4"), nullptr);
-  // The X edge seen 6 m out: only a wall of 7 m has it.
+  // The X edge seen 6.8 m out: only a wall of 7 m has it (a 5 m wall is allowed 25 % and
+  // 0.3 m for how the end is measured).
   const MapLocation l =
-      LocateInMap(l_map, mount, seen, SomeCovariance(), {}, SeenEdgeExtents{6.0, 1.0, 1.5});
+      LocateInMap(l_map, mount, seen, SomeCovariance(), {}, SeenEdgeExtents{6.8, 1.0, 1.5});
   ASSERT_EQ(l.consistent.size(), 1u) << l.why_none;
   EXPECT_EQ(l.consistent[0].corner_id, east.id);
   EXPECT_NEAR(l.consistent[0].base.x_m, truth.x_m, 1e-9);
   // Seen further than any wall runs: nothing fits, and the reason says so.
   const MapLocation none =
-      LocateInMap(l_map, mount, seen, SomeCovariance(), {}, SeenEdgeExtents{9.0, 1.0, 1.5});
+      LocateInMap(l_map, mount, seen, SomeCovariance(), {}, SeenEdgeExtents{9.5, 1.0, 1.5});
   EXPECT_TRUE(none.consistent.empty());
   EXPECT_NE(none.why_none.find("further than its wall runs"), std::string::npos) << none.why_none;
 }
