@@ -230,6 +230,16 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
   EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.003);
   EXPECT_LE(Percentile(horizontal_rel, 0.95), 0.01);
   EXPECT_LE(unflagged_large, 0);
+  // Regression gates, 2-3x above the first run (median 0.073 %, heading 0.012 / 0.14 deg).
+  EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.002);
+  EXPECT_LE(Percentile(heading_deg, 0.5), 0.04);
+  EXPECT_LE(Percentile(heading_deg, 0.95), 0.4);
+  // The base's reported 1 sigma covers about 68 % of the actual errors (62-64 % measured).
+  const double n = static_cast<double>(horizontal_rel.size());
+  EXPECT_GE(covered_x / n, 0.55);
+  EXPECT_LE(covered_x / n, 0.80);
+  EXPECT_GE(covered_y / n, 0.55);
+  EXPECT_LE(covered_y / n, 0.80);
 }
 
 TEST(RoomMapAccuracyTest,
