@@ -67,6 +67,10 @@ std::string Metres(double v) {
   return s.str();
 }
 
+std::string Degrees(const Eigen::Vector2d& direction) {
+  return std::to_string(std::lround(std::atan2(direction.y(), direction.x()) * 180 / M_PI));
+}
+
 bool Finite(double v) { return std::isfinite(v); }
 
 // Rooms are at most a few hundred metres across; a coordinate beyond is a unit mistake.
@@ -153,14 +157,11 @@ Result<RoomMap> ParseRoomMap(const std::string& text, const std::string& source)
           const Eigen::Vector2d dir(std::cos(h), std::sin(h));
           if (!Finite(h) || std::max(dir.dot(match->x_edge), dir.dot(match->y_edge)) <
                                 std::cos(kRightAngleToleranceRad))
-            return errors.At(
-                {{"room", r}, {"corner", c}, {"edge_heading_deg", e}},
-                "does not run along a wall of the outline from this corner "
-                "(the walls run at " +
-                    std::to_string(std::atan2(match->x_edge.y(), match->x_edge.x()) * 180 / M_PI) +
-                    " and " +
-                    std::to_string(std::atan2(match->y_edge.y(), match->y_edge.x()) * 180 / M_PI) +
-                    " degrees)");
+            return errors.At({{"room", r}, {"corner", c}, {"edge_heading_deg", e}},
+                             "does not run along a wall of the outline from this corner "
+                             "(the walls run at " +
+                                 Degrees(match->x_edge) + " and " + Degrees(match->y_edge) +
+                                 " degrees)");
         }
       }
       MapCorner corner = *match;

@@ -86,14 +86,17 @@ INSTANTIATE_TEST_SUITE_P(
                "  outline { x_m: 0 y_m: 0 } outline { x_m: 4 y_m: 0 }\n"
                "  outline { x_m: 4 y_m: 4 } outline { x_m: 0 y_m: 4 }\n"
                "  corner { id: \"c\" position { x_m: 6 y_m: 1 } } }",
-               "line 4: room[0].corner[0].position lies outside the room and is not a vertex"},
+               "line 4: room[0].corner[0].position lies outside the room and is not a vertex of "
+               "room[0].outline (the nearest is 2.24 m away)"},
         BadMap{"corners that do not match the outline (an edge across the room)",
                "room { id: \"r\" ceiling_height_m: 2.5\n"
                "  outline { x_m: 0 y_m: 0 } outline { x_m: 4 y_m: 0 }\n"
                "  outline { x_m: 4 y_m: 4 } outline { x_m: 0 y_m: 4 }\n"
                "  corner { id: \"c\" position { x_m: 0 y_m: 0 }\n"
                "    edge_heading_deg: [0, 45] } }",
-               "line 5: room[0].corner[0].edge_heading_deg[1] does not run along a wall"},
+               "line 5: room[0].corner[0].edge_heading_deg[1] does not run along a wall of the "
+               "outline "
+               "from this corner (the walls run at 90 and 0 degrees)"},
         BadMap{"a corner at a vertex that is no right angle",
                "room { id: \"r\" ceiling_height_m: 2.5\n"
                "  outline { x_m: 0 y_m: 0 } outline { x_m: 4 y_m: 0 }\n"
@@ -114,7 +117,9 @@ INSTANTIATE_TEST_SUITE_P(
                "  outline { x_m: 12 y_m: 0 } outline { x_m: 12 y_m: 4 } outline { x_m: 9 y_m: 4 } "
                "}",
                "line 3: room[1].id 'a' names two rooms"},
-        BadMap{"an unknown field", "room { id: \"r\" ceiling_height: 2.5 }", "line 1, column 30: Message type \"monocle.proto.Room\" has no field named \"ceiling_height\""},
+        BadMap{"an unknown field", "room { id: \"r\" ceiling_height: 2.5 }",
+               "line 1, column 30: Message type \"monocle.proto.Room\" has no field named "
+               "\"ceiling_height\""},
         BadMap{"an empty map", "", "no room"}));
 
 TEST(CameraMountFileTest, AMountAtOrAboveACeilingIsRefusedWithTheField) {
