@@ -51,6 +51,8 @@ struct MapLocation {
   bool prior_contradicted = false;           // a prior was given and no candidate met its gates
   std::string why_none;                      // when `consistent` is empty
   bool ambiguous() const { return consistent.size() > 1; }
+  // One answer that nothing contradicts: the pose to publish. Otherwise report, never guess.
+  bool decided() const { return consistent.size() == 1 && !prior_contradicted; }
 };
 
 // How far from the corner each edge (X, Y, Z) was seen, in the units of the pose it was

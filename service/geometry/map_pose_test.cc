@@ -3,6 +3,8 @@
 // the same base pose in the map, at that corner, and only there when the room says so.
 #include "service/geometry/map_pose.h"
 
+#include "service/geometry/map_pose_tracker.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -208,6 +210,49 @@ TEST(MapPoseTest, ASquareRoomIsAmbiguousUntilAPriorDecides) {
                                         MapPosePrior{BasePose2d{2, 2, 0.2}, 0.3, 0.3});
   EXPECT_TRUE(stale.prior_contradicted);
   EXPECT_TRUE(stale.ambiguous());
+}
+
+TEST(MapPoseTrackerTest, FollowsTheRobotRoundASquareRoomFromAKnownStart) {
+  RoomMap square;
+  square.rooms = {SquareRoom()};
+  const RigidTransform mount = Mount();
+  const MapCorner& origin = square.rooms[0].corners[0];
+  MapPoseTracker tracker(square, mount);
+  // Without a start the first frame is ambiguous (four look-alike corners), and nothing is
+  // learnt from it.
+  const BasePose2d start{1.0, 1.4, 3.5};
+  MapLocation first =
+      tracker.Next(ObservedCornerPose(origin, start, mount, 2.1), SomeCovariance(), {0, 0, 0});
+  EXPECT_TRUE(first.ambiguous());
+  EXPECT_FALSE(first.decided());
+  EXPECT_FALSE(tracker.NextPrior().has_value());
+  // Given the start, each decided pose is the next frame's prior: the robot drives 0.1 m a
+  // frame and every frame is decided at the right corner.
+  tracker.SetPose(start);
+  for (int i = 1; i <= 5; ++i) {
+    const BasePose2d at{1.0 + 0.1 * i, 1.4, 3.5};
+    const MapLocation l =
+        tracker.Next(ObservedCornerPose(origin, at, mount, 2.1), SomeCovariance(), {0, 0, 0});
+    ASSERT_TRUE(l.decided()) << "frame " << i;
+    EXPECT_EQ(l.consistent[0].corner_id, origin.id);
+    EXPECT_NEAR(tracker.NextPrior()->base.x_m, at.x_m, 1e-9);
+    EXPECT_DOUBLE_EQ(tracker.NextPrior()->max_distance_m, 0.5);
+  }
+  // Frames without a pose widen the gates by 0.1 m and 0.1 rad each.
+  tracker.Missed();
+  tracker.Missed();
+  EXPECT_DOUBLE_EQ(tracker.NextPrior()->max_distance_m, 0.7);
+  EXPECT_DOUBLE_EQ(tracker.NextPrior()->max_heading_rad, 0.7);
+  // A view the prior contradicts (the robot was carried 2 m) is not decided, and the last
+  // pose stays the prior, wider by one more frame.
+  const MapLocation carried = tracker.Next(ObservedCornerPose(origin, {3.0, 3.2, 0.5}, mount, 2.1),
+                                           SomeCovariance(), {0, 0, 0});
+  EXPECT_TRUE(carried.prior_contradicted);
+  EXPECT_FALSE(carried.decided());
+  EXPECT_NEAR(tracker.NextPrior()->base.x_m, 1.5, 1e-9);
+  EXPECT_DOUBLE_EQ(tracker.NextPrior()->max_distance_m, 0.8);
+  tracker.Forget();
+  EXPECT_FALSE(tracker.NextPrior().has_value());
 }
 
 TEST(MapPoseTest, NoCornerFitsAViewFromOutsideEveryRoom) {

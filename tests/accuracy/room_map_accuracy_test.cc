@@ -16,6 +16,7 @@
 
 #include "camera/render/room_renderer.h"
 #include "service/geometry/map_pose.h"
+#include "service/geometry/map_pose_tracker.h"
 #include "service/io/room_map_file.h"
 #include "service/vision/corner_locator.h"
 
@@ -135,10 +136,9 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
   ASSERT_GE(drive.size(), 200u);
   const double ceiling_distance = f.hall().ceiling_height_m - f.mount.translation.z();
   // The user gives the start pose (a robot knows where it was parked); after that each
-  // published pose is the next frame's prior.
-  std::optional<MapPosePrior> prior = MapPosePrior{drive.front(), 0.5, 0.5};
-  // Each frame without a pose widens the prior's gates by what the robot can move in a frame.
-  int frames_since_pose = 0;
+  // decided pose is the next frame's prior, its gates widening with every frame without one.
+  MapPoseTracker tracker(f.map, f.mount);
+  tracker.SetPose(drive.front());
   int in_view = 0, located = 0, published = 0, wrong_corner = 0, ambiguous = 0, suspect = 0;
   int covered_x = 0, covered_y = 0, unflagged_large = 0;
   std::vector<double> horizontal_rel, heading_deg;
@@ -152,15 +152,15 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
     in_view += any_in_view;
     const cv::Mat image = Render(f, map_camera, 40000 + i);  // a seed nothing was tuned on
     const auto loc = LocateCorner(image, f.k, ceiling_distance);
-    ++frames_since_pose;
-    prior->max_distance_m = 0.5 + 0.1 * (frames_since_pose - 1);
-    prior->max_heading_rad = 0.5 + 0.1 * (frames_since_pose - 1);
-    if (!loc) continue;
+    if (!loc) {
+      tracker.Missed();
+      continue;
+    }
     ++located;
-    const MapLocation where =
-        LocateInMap(f.map, f.mount, loc->pose, loc->covariance, prior, Extents(f.k, *loc));
+    const std::optional<MapPosePrior> prior = tracker.NextPrior();
+    const MapLocation where = tracker.Next(loc->pose, loc->covariance, Extents(f.k, *loc));
     if (where.consistent.empty()) continue;
-    if (where.ambiguous() || where.prior_contradicted) {
+    if (!where.decided()) {
       // Reported: say what (a Y the room cannot place, or one that contradicts the last pose,
       // e.g. the reflex vertex at (3, 3), which also looks like a Y).
       std::cout << "frame " << i << " unresolved: " << where.consistent.size()
@@ -206,8 +206,6 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
     if (error_m / distance > 0.05 && !loc->suspect) ++unflagged_large;
     covered_x += std::abs(got.base.x_m - truth.x_m) <= std::sqrt(got.base_covariance(0, 0));
     covered_y += std::abs(got.base.y_m - truth.y_m) <= std::sqrt(got.base_covariance(1, 1));
-    prior = MapPosePrior{got.base, 0.5, 0.5};
-    frames_since_pose = 0;
   }
   std::cout << "room drive: " << drive.size() << " frames, a corner in view in " << in_view
             << ", located " << located << ", published " << published << " (" << suspect
