@@ -24,6 +24,7 @@ int CameraCommand(const std::string& command, const std::vector<std::string>& ar
 int IntrinsicsCommand(const std::vector<std::string>& args);
 int RenderCommand(const std::vector<std::string>& args);
 int RenderBoards(const std::vector<std::string>& args);  // render boards
+int RenderRoom(const std::vector<std::string>& args);    // render room
 // The running service's cameras (over DDS).
 int StatusCommand(const std::vector<std::string>& args);
 // MCAP recordings: record (over DDS), info.
@@ -33,6 +34,8 @@ int InfoCommand(const std::vector<std::string>& args);
 int ReplayCommand(const std::vector<std::string>& args);
 // The live frame with the service's measurement drawn on it (view_command.cc).
 int ViewCommand(const std::vector<std::string>& args);
+// Room maps: check, draw (map_commands.cc).
+int MapCommand(const std::vector<std::string>& args);
 // DDS Security keystores (security init).
 int SecurityCommand(const std::vector<std::string>& args);
 

@@ -17,8 +17,11 @@
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
 #include "client/cli/live.h"
+#include "client/cli/map_output.h"
 #include "idl/cli_output.pb.h"
+#include "service/geometry/map_pose_tracker.h"
 #include "service/io/calibration_file.h"
+#include "service/io/room_map_file.h"
 #include "service/vision/corner_locator.h"
 #include "service/vision/corner_tracker.h"
 
@@ -28,6 +31,8 @@ namespace {
 constexpr const char* kLocateHelp =
     R"(Usage: monocle corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z]
                              [--json] [--overlay DIR] [--track [--detect-every N]]
+       monocle corner locate IMAGE... --calibration CAL.pbtxt --map MAP.pbtxt --mount MOUNT.pbtxt
+                             [--prior X,Y,HEADING_DEG] [--track] [--json] [--overlay DIR]
 
 Finds the ceiling corner (two ceiling edges and the vertical wall edge meeting in a Y) in
 each image and computes the camera's pose in the corner frame (Chou & Tsai 1986): origin
@@ -50,6 +55,22 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            first; a full detection when that fails, when the tracked pose is
                            suspect, and every --detect-every N images (default 30). Each
                            result says "tracked" or "detected".
+
+In a map (README "Room map"), instead of one corner's frame:
+  --map MAP.pbtxt          the rooms and their ceiling corners (idl/room_map.proto); every
+                           corner is tried and the one consistent with the view is named:
+                           the base's x, y (metres) and heading (degrees from the map's +x
+                           towards +y) in the map frame with their 1 sigma, and the camera's
+                           pose there. Several corners fit: "ambiguous" with every candidate;
+                           none is guessed.
+  --mount MOUNT.pbtxt      the camera's pose on the robot base (a CameraMount; its z is the
+                           optical centre's height above the floor, so each corner's ceiling
+                           distance follows from the map: no --ceiling-distance)
+  --prior X,Y,HEADING_DEG  where the robot is (metres, degrees): decides between look-alike
+                           corners; with --track only the first image's, after which each
+                           located pose is the next image's prior (gates 0.5 m and 0.5 rad,
+                           wider by 0.1 for every image without a pose)
+An image whose pose in the map is not decided counts as failed for the exit status.
 
 Every pose says how well the image supports it: per edge the length found, its contrast
 against the image's noise, and how far its points lie from the pose's line. A pose whose
@@ -124,15 +145,41 @@ int LocateLive(const Args& args) {
   return kExitOk;
 }
 
+// --map MAP --mount MOUNT: the map and the camera's mount, or nothing without --map.
+Result<std::optional<MapPoseTracker>> OpenMap(const Args& args) {
+  const auto map_path = args.Get("--map");
+  const auto mount_path = args.Get("--mount");
+  if (!map_path) {
+    if (mount_path || args.Get("--prior"))
+      return MakeError(ErrorCode::kInvalidArgument, "--mount and --prior need --map MAP.pbtxt");
+    return std::optional<MapPoseTracker>();
+  }
+  if (!mount_path) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--map needs --mount MOUNT.pbtxt: the camera's pose on the robot base "
+                     "(e.g. idl/examples/camera_mount.pbtxt)");
+  }
+  if (args.Get("--ceiling-distance")) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--ceiling-distance is not used with --map: each corner's follows from the "
+                     "map's ceiling height and the mount's height");
+  }
+  auto map = LoadRoomMapFile(*map_path);
+  if (!map) return map.error();
+  auto mount = LoadCameraMountFile(*mount_path, *map);
+  if (!mount) return mount.error();
+  return std::optional<MapPoseTracker>(std::in_place, std::move(*map), *mount);
+}
+
 int Locate(const std::vector<std::string>& argv) {
   if (WantsHelp(argv)) {
     std::cout << kLocateHelp;
     return kExitOk;
   }
-  auto args =
-      Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera", "--count",
-                          "--domain", "--timeout", "--security", "--detect-every"},
-                         {"--json", "--follow", "--track"}});
+  auto args = Args::Parse(
+      argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera", "--count", "--domain",
+              "--timeout", "--security", "--detect-every", "--map", "--mount", "--prior"},
+             {"--json", "--follow", "--track"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->Has("--camera")) return LocateLive(*args);
   if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
@@ -140,8 +187,21 @@ int Locate(const std::vector<std::string>& argv) {
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
-  double zc = calibration->ceiling_distance_m.value_or(0);
-  if (args->Get("--ceiling-distance")) {
+  std::optional<MapPoseTracker> in_map;
+  if (auto map = OpenMap(*args); !map) {
+    return Fail(map.error(), map.error().code == ErrorCode::kInvalidArgument &&
+                                     map.error().message.starts_with("--")
+                                 ? kExitUsage
+                                 : kExitFailure);
+  } else if (map->has_value()) {
+    in_map.emplace(std::move(**map));
+  }
+  // In a map each corner's ceiling distance follows from the mount: solve at any one of
+  // them (the map scales the pose to each corner's).
+  double zc =
+      in_map ? in_map->map().rooms.front().ceiling_height_m - in_map->base_camera().translation.z()
+             : calibration->ceiling_distance_m.value_or(0);
+  if (args->Get("--ceiling-distance") && !in_map) {
     const auto z = args->GetDouble("--ceiling-distance", 0);
     if (!z || !(*z > 0))
       return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
@@ -151,9 +211,17 @@ int Locate(const std::vector<std::string>& argv) {
     return Fail(
         "the camera-to-ceiling distance is unknown: give --ceiling-distance Z (metres) or add "
         "corner { ceiling_distance: Z } to " +
-            *cal_path,
+            *cal_path + " (or locate in a room map: --map MAP.pbtxt --mount MOUNT.pbtxt)",
         kExitUsage);
   }
+  std::optional<BasePose2d> prior;
+  if (const auto text = args->Get("--prior")) {
+    const auto v = ParseNumberList(*text);
+    if (!v || v->size() != 3)
+      return Fail("--prior '" + *text + "' is not X,Y,HEADING_DEG (metres, degrees)", kExitUsage);
+    prior = BasePose2d{(*v)[0], (*v)[1], (*v)[2] * std::numbers::pi / 180};
+  }
+  if (in_map && prior) in_map->SetPose(*prior);
   const auto overlay = args->Get("--overlay");
   if (overlay) {
     std::error_code ec;
@@ -177,10 +245,28 @@ int Locate(const std::vector<std::string>& argv) {
                                               : LocateCorner(*image, calibration->intrinsics, zc);
     if (!image && tracker) tracker->Reset();  // a gap in the sequence
     any_failed |= !result.ok();
+    std::optional<MapLocation> where;
+    if (in_map) {
+      // Unordered images are each judged by the room and --prior alone.
+      if (!tracker) {
+        in_map->Forget();
+        if (prior) in_map->SetPose(*prior);
+      }
+      if (result) {
+        where = in_map->Next(result->pose, result->covariance,
+                             SeenEdgeExtentsAtLeast(calibration->intrinsics, result->pose,
+                                                    result->corner_px, result->line_end_px));
+        any_failed |= !where->decided();
+      } else {
+        in_map->Missed();
+      }
+    }
     if (overlay && image)
       WriteCornerOverlay(*overlay, path, *image, calibration->intrinsics, result);
     if (json) {
-      std::cout << ToJson(ToCornerOutput(path, result)) << std::endl;
+      proto::CornerOutput out = ToCornerOutput(path, result);
+      if (where) *out.mutable_map() = ToMapLocationOutput(*where);
+      std::cout << ToJson(out) << std::endl;
       continue;
     }
     if (!result) {
@@ -188,6 +274,7 @@ int Locate(const std::vector<std::string>& argv) {
       continue;
     }
     std::cout << CornerResultLine(path, *result) << std::endl;
+    if (where) std::cout << "  " << MapLocationLine(*where) << std::endl;
   }
   return any_failed ? kExitFailure : kExitOk;
 }

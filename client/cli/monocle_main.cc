@@ -27,11 +27,21 @@ Commands:
       The floor from above: the camera's footprint and a floor point's 1-sigma as colour.
   corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z] [--json] [--overlay DIR]
       Camera position and pan, tilt, swing from the ceiling corner in each image.
+  corner locate IMAGE... --calibration CAL.pbtxt --map MAP.pbtxt --mount MOUNT.pbtxt
+                [--prior X,Y,HEADING_DEG] [--track] [--json]
+      The robot's pose in a room map from whichever corner is in view, and which corner.
+  map check MAP.pbtxt [--mount MOUNT.pbtxt]
+      Validates a room map and lists its rooms and ceiling corners.
+  map draw MAP.pbtxt --out MAP.png [--trajectory FILE] [--poses POSES.jsonl]
+      The map from above with a true path and the poses located in it.
   intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
       Focal lengths, principal point and lens distortion from several board images.
   render corner --calibration CAL.pbtxt --pose X,Y,Z,PAN,TILT,SWING --out IMG.png
                 [--noise SIGMA] [--seed N] [--clutter] [--lighting]
       Renders a room corner as the camera at that pose sees it.
+  render room --map MAP.pbtxt --mount MOUNT.pbtxt --calibration CAL.pbtxt
+              (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR) [--realistic]
+      Renders what the robot's camera sees in a room of the map, at a pose or along a path.
   render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
                [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
       Renders a chessboard (and boxes) on the floor as the calibrated camera sees it.
@@ -92,6 +102,7 @@ int main(int argc, char** argv) {
   if (command == "render") return monocle::cli::RenderCommand(rest);
   if (command == "status") return monocle::cli::StatusCommand(rest);
   if (command == "security") return monocle::cli::SecurityCommand(rest);
+  if (command == "map") return monocle::cli::MapCommand(rest);
   if (command == "record") return monocle::cli::RecordCommand(rest);
   if (command == "info") return monocle::cli::InfoCommand(rest);
   if (command == "replay") return monocle::cli::ReplayCommand(rest);

@@ -100,10 +100,12 @@ int RenderCorner(const std::vector<std::string>& argv) {
 int RenderCommand(const std::vector<std::string>& argv) {
   if (!argv.empty() && argv[0] == "corner") return RenderCorner({argv.begin() + 1, argv.end()});
   if (!argv.empty() && argv[0] == "boards") return RenderBoards({argv.begin() + 1, argv.end()});
+  if (!argv.empty() && argv[0] == "room") return RenderRoom({argv.begin() + 1, argv.end()});
   constexpr const char* kOverview =
-      "Usage: monocle render floor|corner|boards ...\n\n"
+      "Usage: monocle render floor|corner|room|boards ...\n\n"
       "  floor    a chessboard (and boxes) on the floor, as a floor camera sees it\n"
       "  corner   a ceiling corner, as a corner camera sees it (clean, cluttered, realistic)\n"
+      "  room     a room of a map, as the robot's camera sees it at a pose or along a drive\n"
       "  boards   a set of chessboard views for intrinsics calibration\n\n"
       "monocle render COMMAND --help for each command's options.\n";
   if (argv.empty() || argv[0] == "--help" || argv[0] == "-h") {
@@ -111,7 +113,8 @@ int RenderCommand(const std::vector<std::string>& argv) {
     return argv.empty() ? kExitUsage : kExitOk;
   }
   if (argv[0] != "floor") {
-    return Fail("unknown render command '" + argv[0] + "' (floor, corner, boards)", kExitUsage);
+    return Fail("unknown render command '" + argv[0] + "' (floor, corner, room, boards)",
+                kExitUsage);
   }
   if (WantsHelp({argv.begin() + 1, argv.end()})) {
     std::cout << kHelp;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 namespace monocle {
 namespace {
@@ -52,6 +54,46 @@ double WallLength(const MapRoom& room, const MapCorner& corner, int axis) {
   return best;
 }
 
+// The ceiling edge of the wall after the one a corner's edge (X or Y) runs along: from that
+// wall's far vertex on to the next, at the ceiling (map frame). Nothing for Z.
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> NextCeilingEdge(const MapRoom& room,
+                                                                           const MapCorner& corner,
+                                                                           int axis) {
+  if (axis == 2) return std::nullopt;
+  const Eigen::Vector2d& dir = axis == 0 ? corner.x_edge : corner.y_edge;
+  const auto& o = room.outline_m;
+  const size_t n = o.size();
+  for (size_t a = 0; a < n; ++a) {
+    if ((o[a] - corner.position_m).norm() > 1e-6) continue;
+    for (const size_t b : {(a + 1) % n, (a + n - 1) % n}) {
+      if ((o[b] - o[a]).normalized().dot(dir) < 1 - 1e-6) continue;
+      const size_t c = b == (a + 1) % n ? (b + 1) % n : (b + n - 1) % n;
+      const double h = corner.ceiling_height_m;
+      return std::pair{Eigen::Vector3d(o[b].x(), o[b].y(), h),
+                       Eigen::Vector3d(o[c].x(), o[c].y(), h)};
+    }
+  }
+  return std::nullopt;
+}
+
+// Whether the ray from `camera` along `ray` (map frame) meets the segment within 1 % of its
+// range (about a pixel at 1000 px focal length, five at 200 px... generous for a seen end).
+bool RayMeetsSegment(const Eigen::Vector3d& camera, const Eigen::Vector3d& ray,
+                     const std::pair<Eigen::Vector3d, Eigen::Vector3d>& segment) {
+  const Eigen::Vector3d r = ray.normalized();
+  const Eigen::Vector3d d = segment.second - segment.first;
+  const Eigen::Vector3d w = camera - segment.first;
+  const double dd = d.dot(d), rd = r.dot(d), wr = w.dot(r), wd = w.dot(d);
+  const double det = dd - rd * rd;     // |r| = 1
+  if (det < 1e-12 * dd) return false;  // parallel
+  // Closest points camera + t r and first + s d, s held to the segment.
+  const double s = std::clamp((wd - rd * wr) / det, 0.0, 1.0);
+  const Eigen::Vector3d q = segment.first + s * d;
+  const double t = (q - camera).dot(r);
+  if (t <= 0) return false;
+  return (camera + t * r - q).norm() <= 0.01 * t;
+}
+
 }  // namespace
 
 double SeenEdgeExtent(const CameraIntrinsics& intrinsics, const CornerPose& pose, int axis,
@@ -81,8 +123,13 @@ SeenEdgeExtents SeenEdgeExtentsAtLeast(const CameraIntrinsics& intrinsics, const
   for (int axis = 0; axis < 3; ++axis) {
     const Eigen::Vector2d along = end_px[axis] - corner_px;
     if (along.norm() <= margin_px) continue;
-    out[axis] =
-        SeenEdgeExtent(intrinsics, pose, axis, end_px[axis] - margin_px * along.normalized());
+    const Eigen::Vector2d end = end_px[axis] - margin_px * along.normalized();
+    out.along[axis] = SeenEdgeExtent(intrinsics, pose, axis, end);
+    if (const auto normalized = PixelToNormalized(intrinsics, end)) {
+      out.end_ray_corner[axis] = (RotationCameraFromCorner(pose).transpose() *
+                                  Eigen::Vector3d(normalized->x(), normalized->y(), 1))
+                                     .normalized();
+    }
   }
   return out;
 }
@@ -126,11 +173,61 @@ MapPoseCandidate PoseInMapFromCorner(const MapCorner& corner, const RigidTransfo
   return c;
 }
 
+LevelledCornerPose LevelWithMount(const CornerPose& pose,
+                                  const Eigen::Matrix<double, 5, 5>& covariance,
+                                  const RigidTransform& base_camera, double level_sigma_rad) {
+  // The base's axes in the corner frame (Z down): level when its up axis points along -Z.
+  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(pose).transpose();
+  const Eigen::Matrix3d mount = base_camera.rotation.toRotationMatrix();
+  const Eigen::Matrix3d corner_from_base = corner_from_camera * mount.transpose();
+  LevelledCornerPose out{pose, covariance, 0};
+  out.level_error_rad = std::acos(std::clamp(-corner_from_base(2, 2), -1.0, 1.0));
+  // The same heading, level: the camera's tilt and swing the mount implies.
+  const Eigen::Vector3d forward(corner_from_base(0, 0), corner_from_base(1, 0), 0);
+  if (forward.norm() < 1e-6) return out;  // the base's x axis vertical: no heading
+  Eigen::Matrix3d level;
+  level.col(0) = forward.normalized();
+  level.col(2) = -Eigen::Vector3d::UnitZ();
+  level.col(1) = level.col(2).cross(level.col(0));
+  const CornerPose implied = PoseFromRotation((level * mount).transpose(), CameraPosition(pose));
+  // A linear Gaussian update of (x, y, pan, tilt, swing) by the measurement (tilt, swing).
+  const Eigen::Vector2d residual(implied.tilt_rad - pose.tilt_rad,
+                                 WrapAngle(implied.swing_rad - pose.swing_rad));
+  const Eigen::Matrix<double, 5, 2> cross = covariance.block<5, 2>(0, 3);
+  const Eigen::Matrix2d innovation = covariance.block<2, 2>(3, 3) + level_sigma_rad *
+                                                                        level_sigma_rad *
+                                                                        Eigen::Matrix2d::Identity();
+  const Eigen::Matrix<double, 5, 2> gain = cross * innovation.inverse();
+  const Eigen::Matrix<double, 5, 1> step = gain * residual;
+  out.pose.x_m += step[0];
+  out.pose.y_m += step[1];
+  out.pose.pan_rad += step[2];
+  out.pose.tilt_rad += step[3];
+  out.pose.swing_rad += step[4];
+  out.covariance = covariance - gain * cross.transpose();
+  out.covariance = 0.5 * (out.covariance + out.covariance.transpose());
+  return out;
+}
+
 MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
-                        const CornerPose& pose, const Eigen::Matrix<double, 5, 5>& covariance,
+                        const CornerPose& pose_as_solved,
+                        const Eigen::Matrix<double, 5, 5>& covariance_as_solved,
                         const std::optional<MapPosePrior>& prior,
-                        const SeenEdgeExtents& seen_extents) {
+                        const SeenEdgeExtents& seen_extents, const MapCheckOptions& checks) {
   MapLocation out;
+  const LevelledCornerPose levelled =
+      LevelWithMount(pose_as_solved, covariance_as_solved, base_camera, checks.level_sigma_rad);
+  const CornerPose& pose = levelled.pose;
+  const Eigen::Matrix<double, 5, 5>& covariance = levelled.covariance;
+  out.level_error_rad = levelled.level_error_rad;
+  if (out.level_error_rad > checks.max_level_error_rad) {
+    std::ostringstream why;
+    why.precision(2);
+    why << std::fixed << "the pose tips the robot " << out.level_error_rad * 180 / M_PI
+        << " deg from level (allowed " << checks.max_level_error_rad * 180 / M_PI << " deg)";
+    out.suspect = true;
+    out.suspect_reason = why.str();
+  }
   std::vector<MapPoseCandidate> in_room;
   int outside = 0, hidden = 0, too_short = 0;
   for (const MapRoom& room : map.rooms) {
@@ -150,9 +247,16 @@ MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
       // edge runs on nearly in line in the image, its first points join the fit).
       const double scale = c.corner_pose.z_m / pose.z_m;
       bool fits = true;
+      const Eigen::Matrix3d map_from_corner = MapFromCorner(corner).linear();
       for (int axis = 0; axis < 3; ++axis) {
         const double seen_m = seen_extents[axis] * scale;
-        if (seen_m > 1.25 * WallLength(room, corner, axis) + 0.3) fits = false;
+        if (seen_m <= 1.25 * WallLength(room, corner, axis) + 0.3) continue;
+        // Further than the wall: fine only if the seen end lies on the next wall's edge.
+        const auto next = NextCeilingEdge(room, corner, axis);
+        const Eigen::Vector3d& ray = seen_extents.end_ray_corner[axis];
+        if (!next || ray.isZero() ||
+            !RayMeetsSegment(c.map_camera.translation, map_from_corner * ray, *next))
+          fits = false;
       }
       if (!fits) {
         ++too_short;

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -38,6 +39,16 @@ struct MapPosePrior {
   double max_heading_rad = 0.5;  // how far it may have turned
 };
 
+struct MapCheckOptions {
+  // The robot stands level on the floor to this 1 sigma (floors, ramps, braking), radians: the
+  // mount then fixes the camera's tilt and swing, which the corner solve measured freely; the
+  // two are combined (a linear Gaussian update of the pose by its covariance) before the pose
+  // is placed in the map. Far corners, whose tilt is least certain, gain most.
+  double level_sigma_rad = 0.3 * M_PI / 180;
+  // Above this the pose is suspect: the image and the mount disagree.
+  double max_level_error_rad = 1.0 * M_PI / 180;
+};
+
 struct MapPoseCandidate {
   std::string corner_id, room_id;
   CornerPose corner_pose;     // in that corner's frame, at its ceiling distance
@@ -48,16 +59,31 @@ struct MapPoseCandidate {
 
 struct MapLocation {
   std::vector<MapPoseCandidate> consistent;  // best first (closest to the prior, if any)
-  bool prior_contradicted = false;           // a prior was given and no candidate met its gates
-  std::string why_none;                      // when `consistent` is empty
+  // How far the solved camera orientation tips the robot base from level (the mount fixes the
+  // camera's tilt and swing on a level floor; the corner solve does not use that), before the
+  // two are combined: the same for every candidate. Above
+  // MapCheckOptions::max_level_error_rad the pose is suspect.
+  double level_error_rad = 0;
+  bool suspect = false;
+  std::string suspect_reason;
+  bool prior_contradicted = false;  // a prior was given and no candidate met its gates
+  std::string why_none;             // when `consistent` is empty
   bool ambiguous() const { return consistent.size() > 1; }
   // One answer that nothing contradicts: the pose to publish. Otherwise report, never guess.
   bool decided() const { return consistent.size() == 1 && !prior_contradicted; }
 };
 
 // How far from the corner each edge (X, Y, Z) was seen, in the units of the pose it was
-// solved with (pose.z_m); 0 where not known.
-using SeenEdgeExtents = std::array<double, 3>;
+// solved with (pose.z_m), 0 where not known; and the ray through each edge's seen far end
+// (direction in the corner frame, zero where not known). An edge seen further than its wall
+// runs is still that wall's when the ray meets the next wall's ceiling edge: seen from some
+// places the two run on nearly in line in the image and the detector fits both as one.
+struct SeenEdgeExtents {
+  std::array<double, 3> along{0, 0, 0};
+  std::array<Eigen::Vector3d, 3> end_ray_corner{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                                Eigen::Vector3d::Zero()};
+  double operator[](int axis) const { return along[axis]; }
+};
 
 // The distance from the corner, along `axis` (0 X, 1 Y, 2 Z), of the edge point seen at pixel
 // `end_px`: where the pixel's ray passes closest to the axis. 0 if the ray runs parallel.
@@ -78,7 +104,19 @@ SeenEdgeExtents SeenEdgeExtentsAtLeast(const CameraIntrinsics& intrinsics, const
 MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
                         const CornerPose& pose, const Eigen::Matrix<double, 5, 5>& covariance,
                         const std::optional<MapPosePrior>& prior,
-                        const SeenEdgeExtents& seen_extents = {0, 0, 0});
+                        const SeenEdgeExtents& seen_extents = {},
+                        const MapCheckOptions& checks = {});
+
+// The corner pose and covariance combined with the mount's tilt and swing on a level floor
+// (MapCheckOptions::level_sigma_rad), and how far from level the pose alone put the base.
+struct LevelledCornerPose {
+  CornerPose pose;
+  Eigen::Matrix<double, 5, 5> covariance;
+  double level_error_rad = 0;
+};
+LevelledCornerPose LevelWithMount(const CornerPose& pose,
+                                  const Eigen::Matrix<double, 5, 5>& covariance,
+                                  const RigidTransform& base_camera, double level_sigma_rad);
 
 // The same for one given corner (no consistency test): the corner pose scaled to the
 // corner's ceiling distance, and the camera and base in the map.

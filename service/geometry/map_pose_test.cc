@@ -255,6 +255,44 @@ TEST(MapPoseTrackerTest, FollowsTheRobotRoundASquareRoomFromAKnownStart) {
   EXPECT_FALSE(tracker.NextPrior().has_value());
 }
 
+TEST(MapPoseTest, TheMountsLevelCorrectsATiltErrorAndFlagsAPoseThatTipsTheRobot) {
+  RoomMap map;
+  map.rooms = {LRoom()};
+  const RigidTransform mount = Mount();
+  const MapCorner& corner = map.rooms[0].corners[0];
+  const BasePose2d truth{2.0, 1.5, -2.4};
+  const CornerPose exact = ObservedCornerPose(corner, truth, mount, 2.2);
+  // The truth is level: nothing to correct.
+  Eigen::Matrix<double, 5, 5> cov = SomeCovariance();
+  const LevelledCornerPose same = LevelWithMount(exact, cov, mount, 0.3 * M_PI / 180);
+  EXPECT_NEAR(same.level_error_rad, 0, 1e-9);
+  EXPECT_NEAR(same.pose.x_m, exact.x_m, 1e-9);
+  EXPECT_NEAR(same.pose.tilt_rad, exact.tilt_rad, 1e-9);
+  // A tilt error that moved x with it (x errs by 2 m per radian of tilt, as the covariance
+  // says): the mount's level takes both back.
+  const Eigen::Matrix<double, 5, 1> along =
+      (Eigen::Matrix<double, 5, 1>() << 2, 0, 0, 1, 0).finished();
+  cov = along * along.transpose() * 1e-4 + 1e-10 * Eigen::Matrix<double, 5, 5>::Identity();
+  CornerPose tipped = exact;
+  tipped.x_m += 2 * 0.01;
+  tipped.tilt_rad += 0.01;
+  const LevelledCornerPose fixed = LevelWithMount(tipped, cov, mount, 1e-6);
+  EXPECT_NEAR(fixed.level_error_rad, 0.01, 1e-6);
+  EXPECT_NEAR(fixed.pose.x_m, exact.x_m, 1e-4);
+  EXPECT_NEAR(fixed.pose.tilt_rad, exact.tilt_rad, 1e-5);
+  EXPECT_LT(fixed.covariance(0, 0), 1e-3 * cov(0, 0));
+  // Tipped 2 degrees: placed (the map cannot tell it is wrong) but suspect, with the reason.
+  tipped = exact;
+  tipped.tilt_rad += 2 * M_PI / 180;
+  const MapLocation l =
+      LocateInMap(map, mount, tipped, SomeCovariance(), MapPosePrior{truth, 0.5, 0.5});
+  EXPECT_TRUE(l.suspect);
+  EXPECT_NEAR(l.level_error_rad, 2 * M_PI / 180, 1e-6);
+  EXPECT_NE(l.suspect_reason.find("2.00 deg from level"), std::string::npos) << l.suspect_reason;
+  EXPECT_FALSE(
+      LocateInMap(map, mount, exact, SomeCovariance(), MapPosePrior{truth, 0.5, 0.5}).suspect);
+}
+
 TEST(MapPoseTest, NoCornerFitsAViewFromOutsideEveryRoom) {
   RoomMap map;
   map.rooms = {SquareRoom()};

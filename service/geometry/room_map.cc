@@ -128,6 +128,12 @@ bool CornerInSight(const MapRoom& room, const MapCorner& corner, const Eigen::Ve
   return true;
 }
 
+const MapRoom* RoomContaining(const RoomMap& map, const Eigen::Vector2d& p, double margin_m) {
+  for (const MapRoom& room : map.rooms)
+    if (InsideOutline(room.outline_m, p, margin_m)) return &room;
+  return nullptr;
+}
+
 Eigen::Isometry3d MapFromCorner(const MapCorner& corner) {
   Eigen::Matrix3d axes;
   axes.col(0) << corner.x_edge, 0;

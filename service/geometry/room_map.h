@@ -57,6 +57,9 @@ std::vector<MapCorner> RightAngleCorners(const std::string& room_id,
 // wall in between: the sight line to the corner crosses no wall but the corner's own two.
 bool CornerInSight(const MapRoom& room, const MapCorner& corner, const Eigen::Vector2d& camera_m);
 
+// The room whose outline holds `p` (at least `margin_m` inside), or nullptr.
+const MapRoom* RoomContaining(const RoomMap& map, const Eigen::Vector2d& p, double margin_m = 0);
+
 // T_map_corner: corner-frame points into the map frame.
 Eigen::Isometry3d MapFromCorner(const MapCorner& corner);
 

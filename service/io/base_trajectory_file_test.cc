@@ -7,11 +7,11 @@
 namespace monocle {
 namespace {
 
-TEST(BaseTrajectoryFileTest, TheExampleDriveHasTwelvePosesInDegrees) {
+TEST(BaseTrajectoryFileTest, TheExampleDriveHasTwentyFivePosesInDegrees) {
   const auto drive =
       LoadBaseTrajectoryFile(std::string(MONOCLE_SOURCE_DIR) + "/idl/examples/drive.txt");
   ASSERT_TRUE(drive.ok()) << drive.error();
-  ASSERT_EQ(drive->size(), 12u);
+  ASSERT_EQ(drive->size(), 25u);
   EXPECT_DOUBLE_EQ(drive->front().x_m, 1.4);
   EXPECT_DOUBLE_EQ(drive->front().y_m, 1.3);
   EXPECT_NEAR(drive->front().heading_rad, -20 * M_PI / 180, 1e-12);

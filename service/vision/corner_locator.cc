@@ -207,10 +207,18 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
     const Eigen::Vector2d dir = (a.head<2>() / a.z() - c2).normalized();
     const Eigen::Vector2d normal(-dir.y(), dir.x());
     double edge_sum2 = 0;
-    Eigen::Vector2d far = fit.inliers.front();
-    for (const auto& p : fit.inliers) {
-      edge_sum2 += std::pow(normal.dot(p - c2) * focal, 2);
-      if ((p - corner_n).squaredNorm() > (far - corner_n).squaredNorm()) far = p;
+    for (const auto& p : fit.inliers) edge_sum2 += std::pow(normal.dot(p - c2) * focal, 2);
+    // The edge runs from the corner as far as its points follow each other: a stray point
+    // far out on the line (noise or shading that happens to line up) is not where it ends.
+    std::vector<std::pair<double, Eigen::Vector2d>> by_distance;
+    for (const auto& p : fit.inliers) by_distance.push_back({(p - corner_n).norm() * focal, p});
+    std::sort(by_distance.begin(), by_distance.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    const double max_gap_px = std::max(40.0, 8 * spacing_px[m]);
+    Eigen::Vector2d far = by_distance.front().second;
+    for (size_t i = 1; i < by_distance.size(); ++i) {
+      if (by_distance[i].first - by_distance[i - 1].first > max_gap_px) break;
+      far = by_distance[i].second;
     }
     sum2 += edge_sum2;
     total += static_cast<int>(fit.inliers.size());

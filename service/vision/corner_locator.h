@@ -19,7 +19,7 @@ namespace monocle {
 
 // How well one edge of the corner is seen.
 struct EdgeSupport {
-  double length_px = 0;          // corner to the furthest edge point used
+  double length_px = 0;          // corner to where its points stop following each other
   double visible_length_px = 0;  // how long the pose says the edge runs in the image
   double coverage = 0;           // fraction of the visible edge where points were measured
   double contrast_grey = 0;      // median step across the edge, grey levels

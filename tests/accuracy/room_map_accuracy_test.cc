@@ -129,7 +129,11 @@ SeenEdgeExtents Extents(const CameraIntrinsics& k, const CornerLocation& loc) {
   return SeenEdgeExtentsAtLeast(k, loc.pose, loc.corner_px, loc.line_end_px);
 }
 
-TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
+// The seed of frame i is GetParam() + i: two sets of looks and noise. 40000 was the first
+// run; 91000 the second, whose one unflagged pose 5 % off led to the level check.
+class RoomDriveTest : public ::testing::TestWithParam<uint64_t> {};
+
+TEST_P(RoomDriveTest, ADriveThroughTheLShapedHall) {
   const Fixture f = Load();
   ASSERT_EQ(f.hall().corners.size(), 5u);
   const std::vector<BasePose2d> drive = Drive();
@@ -141,7 +145,7 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
   tracker.SetPose(drive.front());
   int in_view = 0, located = 0, published = 0, wrong_corner = 0, ambiguous = 0, suspect = 0;
   int covered_x = 0, covered_y = 0, unflagged_large = 0;
-  std::vector<double> horizontal_rel, heading_deg;
+  std::vector<double> horizontal_rel, heading_deg, level_deg;
   std::vector<int> corners_used(f.hall().corners.size(), 0);
   for (size_t i = 0; i < drive.size(); ++i) {
     const BasePose2d& truth = drive[i];
@@ -150,7 +154,7 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
     for (const auto& c : f.hall().corners)
       any_in_view |= CornerInImage(f.k, map_camera, c).has_value();
     in_view += any_in_view;
-    const cv::Mat image = Render(f, map_camera, 40000 + i);  // a seed nothing was tuned on
+    const cv::Mat image = Render(f, map_camera, GetParam() + i);
     const auto loc = LocateCorner(image, f.k, ceiling_distance);
     if (!loc) {
       tracker.Missed();
@@ -172,7 +176,7 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
     }
     const MapPoseCandidate& got = where.consistent.front();
     ++published;
-    suspect += loc->suspect;
+    suspect += loc->suspect || where.suspect;
     // The corner it measured: the map corner the true camera sees nearest the located one.
     const MapCorner* measured = nullptr;
     double nearest_px = 1e9;
@@ -203,7 +207,13 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
     horizontal_rel.push_back(error_m / distance);
     heading_deg.push_back(
         std::abs(std::remainder(got.base.heading_rad - truth.heading_rad, 2 * M_PI)) / kDeg);
-    if (error_m / distance > 0.05 && !loc->suspect) ++unflagged_large;
+    level_deg.push_back(where.level_error_rad / kDeg);
+    if (error_m / distance > 0.05 && !loc->suspect && !where.suspect) {
+      ++unflagged_large;
+      std::cout << "frame " << i << " " << truth << ": " << 100 * error_m / distance << " % off at "
+                << got.corner_id << ", not flagged; solved " << loc->pose << " rms " << loc->rms_px
+                << " px\n";
+    }
     covered_x += std::abs(got.base.x_m - truth.x_m) <= std::sqrt(got.base_covariance(0, 0));
     covered_y += std::abs(got.base.y_m - truth.y_m) <= std::sqrt(got.base_covariance(1, 1));
   }
@@ -215,6 +225,8 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
             << Percentile(heading_deg, 0.5) << " deg, p95 " << Percentile(heading_deg, 0.95)
             << " deg; 1 sigma covers x " << covered_x << ", y " << covered_y << " of "
             << horizontal_rel.size() << "; unflagged > 5 %: " << unflagged_large
+            << "\n  level error: median " << Percentile(level_deg, 0.5) << " deg, p95 "
+            << Percentile(level_deg, 0.95) << " deg, max " << Percentile(level_deg, 1.0)
             << "\n  corners used:";
   for (size_t c = 0; c < corners_used.size(); ++c)
     std::cout << " " << f.hall().corners[c].id << " " << corners_used[c];
@@ -228,17 +240,21 @@ TEST(RoomMapAccuracyTest, ADriveThroughTheLShapedHall) {
   EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.003);
   EXPECT_LE(Percentile(horizontal_rel, 0.95), 0.01);
   EXPECT_LE(unflagged_large, 0);
-  // Regression gates, 2-3x above the first run (median 0.073 %, heading 0.012 / 0.14 deg).
+  // Regression gates, 2-3x above the measured (seeds 40000 / 91000: median 0.074 / 0.087 %,
+  // p95 0.82 / 0.94 %; heading median 0.012 / 0.014 deg, p95 0.12 / 0.18 deg).
   EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.002);
   EXPECT_LE(Percentile(heading_deg, 0.5), 0.04);
   EXPECT_LE(Percentile(heading_deg, 0.95), 0.4);
-  // The base's reported 1 sigma covers about 68 % of the actual errors (62-64 % measured).
+  // The base's reported 1 sigma covers about 68 % of the actual errors (measured x 61 / 61 %,
+  // y 64 / 56 %: the corner solve's sigma is a little small on the realistic look).
   const double n = static_cast<double>(horizontal_rel.size());
   EXPECT_GE(covered_x / n, 0.55);
   EXPECT_LE(covered_x / n, 0.80);
   EXPECT_GE(covered_y / n, 0.55);
   EXPECT_LE(covered_y / n, 0.80);
 }
+
+INSTANTIATE_TEST_SUITE_P(Seeds, RoomDriveTest, ::testing::Values(40000u, 91000u));
 
 TEST(RoomMapAccuracyTest,
      AViewTheHallCannotDecideIsReportedAmbiguousWithTheTruthAmongItsCandidates) {

@@ -1,0 +1,138 @@
+// monocle render room: what the robot's camera sees inside a room of a map, at one base pose or
+// along a trajectory (ground truth for `corner locate --map` and the room tests).
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+
+#include "camera/render/room_renderer.h"
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "client/cli/progress.h"
+#include "service/io/base_trajectory_file.h"
+#include "service/io/calibration_file.h"
+#include "service/io/room_map_file.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr const char* kHelp =
+    R"(Usage: monocle render room --map MAP.pbtxt --mount MOUNT.pbtxt --calibration CAL.pbtxt
+                          (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR)
+                          [--realistic] [--seed N]
+
+Renders what the camera of CAL.pbtxt (intrinsics, with distortion), mounted on the robot as
+MOUNT.pbtxt says, sees inside the room of MAP.pbtxt where the robot stands: the ceiling, every
+wall of the room's outline and the floor, so corners come into and out of view as it drives.
+
+  --pose X,Y,HEADING_DEG  the robot base in the map frame: metres, and degrees from the map's
+                          +x towards +y; one image to --out IMG.png
+  --trajectory FILE       one such pose a line (x_m y_m heading_deg, e.g.
+                          idl/examples/drive.txt); images DIR/frame_0000.png, ... in its order
+  --realistic             a white-painted room as a camera photographs it (the look of
+                          `render corner --realistic`: low contrast, shading, hot-spot,
+                          vignetting, blur, noise, JPEG), drawn from the seed; without it,
+                          clean flat greys
+  --seed N                the look's and the noise's seed (default 1); frame k of a
+                          trajectory uses N + k
+
+The trajectory file is the ground truth of the images: compare `monocle corner locate
+DIR/*.png --map MAP --mount MOUNT --track --prior <its first line>` against it, or draw both
+with `monocle map draw MAP --trajectory FILE --poses POSES.jsonl`.
+)";
+
+// The optical frame in the map: the base on the floor at `b`, then the mount. Built here with
+// Eigen's AngleAxis, apart from the code the locator places poses in the map with.
+Eigen::Isometry3d MapFromCamera(const BasePose2d& b, const RigidTransform& mount) {
+  Eigen::Isometry3d map_base = Eigen::Isometry3d::Identity();
+  map_base.translate(Eigen::Vector3d(b.x_m, b.y_m, 0));
+  map_base.rotate(Eigen::AngleAxisd(b.heading_rad, Eigen::Vector3d::UnitZ()));
+  Eigen::Isometry3d base_camera = Eigen::Isometry3d::Identity();
+  base_camera.translate(mount.translation);
+  base_camera.rotate(mount.rotation);
+  return map_base * base_camera;
+}
+
+Result<cv::Mat> RenderAt(const CameraIntrinsics& k, const RoomMap& map, const RigidTransform& mount,
+                         const BasePose2d& base, bool realistic, uint64_t seed) {
+  const Eigen::Isometry3d map_camera = MapFromCamera(base, mount);
+  const MapRoom* room = RoomContaining(map, map_camera.translation().head<2>(), 0.01);
+  if (room == nullptr) {
+    std::ostringstream os;
+    os << "the camera at (" << map_camera.translation().x() << ", " << map_camera.translation().y()
+       << ") m, on the robot at " << base << ", stands in no room of the map";
+    return MakeError(ErrorCode::kOutOfRange, os.str());
+  }
+  RoomScene scene;
+  scene.seed = seed;
+  if (realistic) scene.realistic = RandomRealisticLook(seed, k);
+  return RenderRoomView(k, *room, map_camera, scene);
+}
+
+}  // namespace
+
+int RenderRoom(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kHelp;
+    return kExitOk;
+  }
+  auto args = Args::Parse(
+      argv, {{"--map", "--mount", "--calibration", "--pose", "--trajectory", "--out", "--seed"},
+             {"--realistic"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (!args->positionals().empty())
+    return Fail("unexpected argument '" + args->positionals()[0] + "'", kExitUsage);
+  for (const char* required : {"--map", "--mount", "--calibration", "--out"}) {
+    if (const auto v = args->Require(required); !v) return Fail(v.error(), kExitUsage);
+  }
+  const bool one = args->Has("--pose"), many = args->Has("--trajectory");
+  if (one == many)
+    return Fail("give either --pose X,Y,HEADING_DEG or --trajectory FILE", kExitUsage);
+  const auto seed = args->GetDouble("--seed", 1.0);
+  if (!seed || *seed < 0 || *seed != std::floor(*seed))
+    return Fail("--seed must be a whole number >= 0", kExitUsage);
+  std::vector<BasePose2d> poses;
+  if (one) {
+    const auto v = ParseNumberList(*args->Get("--pose"));
+    if (!v || v->size() != 3)
+      return Fail("--pose '" + *args->Get("--pose") + "' is not X,Y,HEADING_DEG (metres, degrees)",
+                  kExitUsage);
+    poses.push_back({(*v)[0], (*v)[1], (*v)[2] * std::numbers::pi / 180});
+  } else {
+    auto trajectory = LoadBaseTrajectoryFile(*args->Get("--trajectory"));
+    if (!trajectory) return Fail(trajectory.error(), kExitFailure);
+    poses = std::move(*trajectory);
+  }
+  const auto calibration = LoadCalibrationFile(*args->Get("--calibration"));
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  const auto map = LoadRoomMapFile(*args->Get("--map"));
+  if (!map) return Fail(map.error(), kExitFailure);
+  const auto mount = LoadCameraMountFile(*args->Get("--mount"), *map);
+  if (!mount) return Fail(mount.error(), kExitFailure);
+  const std::string out = *args->Get("--out");
+  if (many) {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) return Fail("cannot create folder '" + out + "': " + ec.message(), kExitFailure);
+  }
+  ProgressLine progress("rendering", poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const auto image = RenderAt(calibration->intrinsics, *map, *mount, poses[i],
+                                args->Has("--realistic"), static_cast<uint64_t>(*seed) + i);
+    if (!image) {
+      return Fail(many ? "trajectory pose " + std::to_string(i + 1) + ": " + image.error().message
+                       : image.error().message,
+                  kExitFailure);
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu.png", i);
+    const std::string path = many ? (std::filesystem::path(out) / name).string() : out;
+    if (auto written = WriteImage(path, *image); !written)
+      return Fail(written.error(), kExitFailure);
+    progress.Update(i + 1);
+  }
+  return kExitOk;
+}
+
+}  // namespace monocle::cli
