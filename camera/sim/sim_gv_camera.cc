@@ -10,6 +10,7 @@
 #include "camera/aravis/tsan_handoff.h"
 #include "camera/render/corner_renderer.h"
 #include "camera/render/floor_renderer.h"
+#include "camera/render/room_renderer.h"
 #include "service/io/bounded_file.h"
 
 namespace monocle {
@@ -60,6 +61,43 @@ CameraIntrinsics SimIntrinsics(int width, int height) {
   return k;
 }
 
+CameraIntrinsics SimRoomIntrinsics(int width, int height) {
+  const double s = width / 1280.0;
+  CameraIntrinsics k;
+  k.width_px = width;
+  k.height_px = height;
+  k.fx = k.fy = 700 * s;
+  k.cx = (width - 1) / 2.0;
+  k.cy = (height - 1) / 2.0;
+  k.distortion = {-0.04, 0.01, 0, 0, 0, 0, 0, 0};
+  return k;
+}
+
+namespace {
+
+// One frame of the room scene: the base at `b`, the camera on the mount (built with Eigen's
+// AngleAxis, apart from the code the locator places poses in the map with).
+Result<cv::Mat> RenderRoomFrame(const CameraIntrinsics& k, const SimCameraOptions& o,
+                                const BasePose2d& b, uint64_t noise_seed) {
+  Eigen::Isometry3d map_camera = Eigen::Isometry3d::Identity();
+  map_camera.translate(Eigen::Vector3d(b.x_m, b.y_m, 0));
+  map_camera.rotate(Eigen::AngleAxisd(b.heading_rad, Eigen::Vector3d::UnitZ()));
+  map_camera.translate(o.mount.translation);
+  map_camera.rotate(o.mount.rotation);
+  const MapRoom* room = RoomContaining(o.room_map, map_camera.translation().head<2>(), 0.01);
+  if (room == nullptr) {
+    std::ostringstream os;
+    os << "the camera on the robot at " << b << " stands in no room of the map";
+    return MakeError(ErrorCode::kOutOfRange, os.str());
+  }
+  RoomScene scene;
+  scene.seed = noise_seed;
+  if (o.realistic) scene.realistic = RandomRealisticLook(o.look_seed, k);
+  return RenderRoomView(k, *room, map_camera, scene);
+}
+
+}  // namespace
+
 Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > 4096 || o.height > 4096) {
     return MakeError(ErrorCode::kInvalidArgument,
@@ -75,6 +113,24 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   }
   std::shared_ptr<SimScenes> cam(new SimScenes());
   cam->options_ = o;
+  if (o.scene == SimScene::kRoom) {
+    if (o.room_map.rooms.empty() || o.base_trajectory.empty()) {
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "the room scene needs a map, a mount and a trajectory (--map, --mount, "
+                       "--trajectory)");
+    }
+    cam->intrinsics_ = SimRoomIntrinsics(o.width, o.height);
+    cam->floor_pose_ = SimFloorPose();
+    for (size_t i = 0; i < o.base_trajectory.size(); ++i) {
+      auto frame = RenderRoomFrame(cam->intrinsics_, o, o.base_trajectory[i], 100 + i);
+      if (!frame) {
+        return MakeError(frame.error().code, "trajectory pose " + std::to_string(i + 1) + ": " +
+                                                 frame.error().message);
+      }
+      cam->frames_.push_back(std::move(*frame));
+    }
+    return cam;
+  }
   cam->intrinsics_ = SimIntrinsics(o.width, o.height);
   const int n = o.trajectory.empty() ? std::max(o.trajectory_frames, 1)
                                      : static_cast<int>(o.trajectory.size());

@@ -14,10 +14,13 @@
 #include "service/geometry/camera_model.h"
 #include "service/geometry/corner_pose.h"
 #include "service/geometry/floor_model.h"
+#include "service/geometry/map_pose.h"
+#include "service/geometry/robot_frames.h"
+#include "service/geometry/room_map.h"
 
 namespace monocle {
 
-enum class SimScene { kCorner, kFloor };
+enum class SimScene { kCorner, kFloor, kRoom };
 
 struct SimCameraOptions {
   SimScene scene = SimScene::kCorner;
@@ -33,7 +36,16 @@ struct SimCameraOptions {
   uint64_t look_seed = 1;
   // Corner scene: poses to drive through instead of the built-in trajectory.
   std::vector<CornerPose> trajectory;
+  // Room scene: the robot drives `base_trajectory` (map frame) through `room_map` with its
+  // camera on `mount`; a wide lens (SimRoomIntrinsics). Frame id k shows pose k mod N.
+  RoomMap room_map;
+  RigidTransform mount;
+  std::vector<BasePose2d> base_trajectory;
 };
+
+// The room scene's lens: focal length 700 px at 1280 px wide (about 85 degrees across), a
+// little barrel distortion (idl/examples/wide_camera.pbtxt at 1280 x 1024).
+CameraIntrinsics SimRoomIntrinsics(int width, int height);
 
 // Reads a trajectory file: one pose a line, "x,y,z,pan,tilt,swing" (metres, radians, the
 // corner frame of `monocle corner locate`); blank lines and lines starting with # skipped.
@@ -53,6 +65,8 @@ class SimScenes {
     return corner_poses_[frame_id % corner_poses_.size()];
   }
   const FloorPose& floor_pose() const { return floor_pose_; }
+  // Room scene: the robot base's pose in the map for each frame (k mod N).
+  const std::vector<BasePose2d>& base_trajectory() const { return options_.base_trajectory; }
   const std::vector<CornerPose>& trajectory() const { return corner_poses_; }
 
   // Sets `fake`'s size and frame rate and makes it send these frames.

@@ -11,7 +11,9 @@
 #include "camera/sim/sim_gv_camera.h"
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
+#include "service/io/base_trajectory_file.h"
 #include "service/io/calibration_file.h"
+#include "service/io/room_map_file.h"
 
 namespace monocle::cli {
 namespace {
@@ -46,22 +48,29 @@ constexpr const char* kSimcamHelp =
     R"(Usage: monocle simcam --scene corner|floor [--ip 127.0.0.1] [--serial S] [--width W --height H]
                       [--fps F] [--frames N] [--trajectory FILE] [--truth FILE]
                       [--calibration-out CAL.pbtxt] [--realistic [--look-seed N]]
+       monocle simcam --scene room --map MAP.pbtxt --mount MOUNT.pbtxt --trajectory FILE
+                      [--ip ...] [--fps F] [--truth FILE] [--calibration-out CAL.pbtxt]
+                      [--realistic [--look-seed N]]
 
 Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
 frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
 trajectory of N poses (frame id k shows pose k mod N), `floor` a chessboard and a box on
-the floor. Runs until Ctrl-C (SIGINT) or SIGTERM.
+the floor, `room` a robot driving through a room of a map (README "Room map"): frame id k
+shows trajectory pose k mod N, seen by a wide lens (f 700 px at 1280 px wide) on the mount.
+Runs until Ctrl-C (SIGINT) or SIGTERM.
 
   --ip A              address to serve on (default 127.0.0.1; one camera per address)
   --serial S          serial number, 1 to 15 characters (default MONOCLE-SIM)
   --width/--height    image size, pixels (default 1280x1024)
   --fps F             frame rate, Hz (default 30)
   --frames N          poses on the built-in trajectory (default 16)
-  --trajectory FILE   corner poses to drive through instead, one a line:
-                      x,y,z,pan,tilt,swing (metres, radians, corner frame)
+  --trajectory FILE   corner: poses to drive through instead, one a line:
+                      x,y,z,pan,tilt,swing (metres, radians, corner frame); room: the
+                      robot base's poses, x_m y_m heading_deg a line (map frame)
+  --map, --mount      room: the room map and the camera's mount on the robot
   --truth FILE        write the ground truth: one JSON object per pose, keyed by
                       frame id modulo N (corner: x y z pan tilt swing; floor: height
-                      pitch yaw roll)
+                      pitch yaw roll; room: the base's x y (m) and heading_deg in the map)
   --calibration-out   write the camera's calibration file (intrinsics, and the ceiling
                       distance or the floor pose) for `monocle corner locate` and friends
   --realistic         corner: a white-painted room as cameras photograph it (surfaces
@@ -166,14 +175,17 @@ int Simcam(const std::vector<std::string>& argv) {
   }
   auto args =
       Args::Parse(argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps", "--frames",
-                          "--truth", "--calibration-out", "--trajectory", "--look-seed"},
+                          "--truth", "--calibration-out", "--trajectory", "--look-seed", "--map",
+                          "--mount"},
                          {"--realistic"}});
   if (!args) return Fail(args.error(), kExitUsage);
   SimCameraOptions o;
   const std::string scene = args->Get("--scene").value_or("");
-  if (scene != "corner" && scene != "floor")
-    return Fail("--scene must be corner or floor", kExitUsage);
-  o.scene = scene == "corner" ? SimScene::kCorner : SimScene::kFloor;
+  if (scene != "corner" && scene != "floor" && scene != "room")
+    return Fail("--scene must be corner, floor or room", kExitUsage);
+  o.scene = scene == "corner" ? SimScene::kCorner
+            : scene == "room" ? SimScene::kRoom
+                              : SimScene::kFloor;
   o.ip = args->Get("--ip").value_or(o.ip);
   o.serial = args->Get("--serial").value_or(o.serial);
   const auto w = args->GetDouble("--width", o.width), h = args->GetDouble("--height", o.height);
@@ -190,7 +202,21 @@ int Simcam(const std::vector<std::string>& argv) {
   if (!look_seed || *look_seed < 0 || *look_seed != std::floor(*look_seed))
     return Fail("--look-seed must be a whole number >= 0", kExitUsage);
   o.look_seed = static_cast<uint64_t>(*look_seed);
-  if (const auto file = args->Get("--trajectory")) {
+  if (o.scene == SimScene::kRoom) {
+    for (const char* required : {"--map", "--mount", "--trajectory"}) {
+      if (!args->Get(required))
+        return Fail(std::string("--scene room needs ") + required + " (see --help)", kExitUsage);
+    }
+    auto map = LoadRoomMapFile(*args->Get("--map"));
+    if (!map) return Fail(map.error(), kExitFailure);
+    auto mount = LoadCameraMountFile(*args->Get("--mount"), *map);
+    if (!mount) return Fail(mount.error(), kExitFailure);
+    auto poses = LoadBaseTrajectoryFile(*args->Get("--trajectory"));
+    if (!poses) return Fail(poses.error(), kExitFailure);
+    o.room_map = std::move(*map);
+    o.mount = *mount;
+    o.base_trajectory = std::move(*poses);
+  } else if (const auto file = args->Get("--trajectory")) {
     auto poses = ReadTrajectoryFile(*file);
     if (!poses) return Fail(poses.error(), kExitUsage);
     o.trajectory = *poses;
@@ -203,15 +229,23 @@ int Simcam(const std::vector<std::string>& argv) {
   sigaddset(&stop, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop, nullptr);
 
-  const size_t poses =
-      o.trajectory.empty() ? static_cast<size_t>(o.trajectory_frames) : o.trajectory.size();
-  std::cerr << "rendering " << (o.scene == SimScene::kCorner ? poses : 2) << " frames...\n";
+  const size_t poses = o.scene == SimScene::kRoom ? o.base_trajectory.size()
+                       : o.trajectory.empty()     ? static_cast<size_t>(o.trajectory_frames)
+                                                  : o.trajectory.size();
+  std::cerr << "rendering " << (o.scene == SimScene::kFloor ? 2 : poses) << " frames...\n";
   auto cam = SimGvCamera::Start(o);
   if (!cam) return Fail(cam.error(), kExitFailure);
   if (const auto truth = args->Get("--truth")) {
     std::ostringstream os;
     os << std::setprecision(12);
-    if (o.scene == SimScene::kCorner) {
+    if (o.scene == SimScene::kRoom) {
+      const auto& t = o.base_trajectory;
+      for (size_t i = 0; i < t.size(); ++i) {
+        os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
+           << ",\"y\":" << t[i].y_m << ",\"heading_deg\":" << t[i].heading_rad * 180 / M_PI
+           << "}\n";
+      }
+    } else if (o.scene == SimScene::kCorner) {
       const auto& t = (*cam)->trajectory();
       for (size_t i = 0; i < t.size(); ++i) {
         os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
@@ -231,7 +265,7 @@ int Simcam(const std::vector<std::string>& argv) {
     cal.intrinsics = (*cam)->intrinsics();
     if (o.scene == SimScene::kCorner) {
       cal.ceiling_distance_m = (*cam)->trajectory().front().z_m;
-    } else {
+    } else if (o.scene == SimScene::kFloor) {
       cal.floor = FloorCalibration{};
       cal.floor->pose = (*cam)->floor_pose();
     }
