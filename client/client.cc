@@ -147,6 +147,22 @@ std::string Shown(const std::string& name) {
 
 std::ostream& operator<<(std::ostream& os, const ClientError& e) { return os << e.message; }
 
+const char* ToString(MapStatus status) {
+  switch (status) {
+    case MapStatus::kNone:
+      return "";
+    case MapStatus::kLocated:
+      return "located";
+    case MapStatus::kAmbiguous:
+      return "ambiguous";
+    case MapStatus::kContradictsPrior:
+      return "contradicts prior";
+    case MapStatus::kNoCornerFits:
+      return "no corner fits";
+  }
+  return "";
+}
+
 const char* ToString(CameraState state) {
   switch (state) {
     case CameraState::kStreaming:

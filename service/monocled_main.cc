@@ -215,8 +215,13 @@ int main(int argc, char** argv) {
               << monocle::ToString(cam.role) << ", calibration " << cam.calibration_path
               << "; ROS 2 " << cam.ros_namespace << "/{"
               << (cam.corner() ? "corner_pose,pose,get_pose," : "")
+              << (cam.room_map ? "map_pose," : "")
               << (cam.floor() ? "measure_points,calibrate_floor," : "")
-              << "camera_info,image_raw}, frame " << cam.ros_frame << ")\n";
+              << "camera_info,image_raw}, frame " << cam.ros_frame
+              << (cam.room_map
+                      ? "; room map " + cam.room_map_path + ", tf map -> " + cam.mount->base_frame
+                      : "")
+              << ")\n";
   }
   std::cerr << "monocled: serving on DDS domain " << setup->domain << " as " << service->get()->id()
             << " (ROS 2: ROS_DOMAIN_ID=" << setup->domain

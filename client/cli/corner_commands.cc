@@ -139,6 +139,14 @@ int LocateLive(const Args& args) {
                 << " swing=" << pose.swing_rad << " rad  rms " << std::setprecision(3)
                 << pose.rms_px << " px  " << (pose.tracked ? "tracked" : "detected")
                 << (pose.suspect ? "  SUSPECT: " + pose.suspect_reason : "") << std::endl;
+      if (pose.map_status == MapStatus::kLocated) {
+        std::cout << std::setprecision(4) << "  map: " << pose.map_corner << " (room "
+                  << pose.map_room << ")  base x=" << pose.map_x_m << " y=" << pose.map_y_m
+                  << " m heading=" << std::setprecision(2)
+                  << pose.map_heading_rad * 180 / std::numbers::pi << " deg" << std::endl;
+      } else if (pose.map_status != MapStatus::kNone) {
+        std::cout << "  map: " << ToString(pose.map_status) << ": " << pose.map_reason << std::endl;
+      }
     }
     ++printed;
   }

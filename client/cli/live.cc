@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <numbers>
 
 #include "client/cli/commands.h"
 
@@ -66,6 +67,27 @@ proto::LivePoseOutput ToLiveOutput(const Pose& s) {
   sigma->set_pan(std::sqrt(s.covariance[12]));
   sigma->set_tilt(std::sqrt(s.covariance[18]));
   sigma->set_swing(std::sqrt(s.covariance[24]));
+  if (s.map_status != MapStatus::kNone) {
+    // The same "map" object as `corner locate --map` (the service sends no candidate list,
+    // only how many fit).
+    auto* m = p->mutable_map();
+    m->set_status(ToString(s.map_status));
+    if (s.map_status == MapStatus::kLocated) {
+      auto* at = m->mutable_pose();
+      at->set_corner(s.map_corner);
+      at->set_room(s.map_room);
+      at->set_x(s.map_x_m);
+      at->set_y(s.map_y_m);
+      at->set_heading_deg(s.map_heading_rad * 180 / std::numbers::pi);
+      at->mutable_sigma()->set_x(std::sqrt(s.map_covariance[0]));
+      at->mutable_sigma()->set_y(std::sqrt(s.map_covariance[4]));
+      at->mutable_sigma()->set_heading_deg(std::sqrt(s.map_covariance[8]) * 180 / std::numbers::pi);
+      for (double v : s.map_camera_position_m) at->add_camera_position(v);
+      for (double v : s.map_camera_quaternion_wxyz) at->add_camera_quaternion(v);
+    } else {
+      m->set_reason(s.map_reason);
+    }
+  }
   return out;
 }
 

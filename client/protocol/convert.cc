@@ -65,6 +65,19 @@ void ToSample(const Pose& p, monocle_msgs_msg_dds__CornerPose_* out) {
   out->tracked = p.tracked;
   out->suspect = p.suspect;
   out->suspect_reason = Chars(p.suspect_reason);
+  out->map_status = static_cast<monocle_msgs_msg_dds__MapStatus>(p.map_status);
+  out->map_corner = Chars(p.map_corner);
+  out->map_room = Chars(p.map_room);
+  out->map_x = p.map_x_m;
+  out->map_y = p.map_y_m;
+  out->map_heading = p.map_heading_rad;
+  std::copy(p.map_covariance.begin(), p.map_covariance.end(), out->map_covariance);
+  const auto& c = p.map_camera_position_m;
+  const auto& r = p.map_camera_quaternion_wxyz;
+  out->map_camera.position = {c[0], c[1], c[2]};
+  out->map_camera.orientation = {r[1], r[2], r[3], r[0]};  // ROS order: x, y, z, w
+  out->map_candidates = p.map_candidates;
+  out->map_reason = Chars(p.map_reason);
 }
 
 Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
@@ -90,6 +103,22 @@ Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
   p.tracked = s.tracked;
   p.suspect = s.suspect;
   p.suspect_reason = Text(s.suspect_reason);
+  // An unknown status (a newer service) reads as no map rather than as a wrong one.
+  p.map_status = s.map_status <= monocle_msgs_msg_dds__MAP_NO_CORNER_FITS
+                     ? static_cast<MapStatus>(s.map_status)
+                     : MapStatus::kNone;
+  p.map_corner = Text(s.map_corner);
+  p.map_room = Text(s.map_room);
+  p.map_x_m = s.map_x;
+  p.map_y_m = s.map_y;
+  p.map_heading_rad = s.map_heading;
+  std::copy(std::begin(s.map_covariance), std::end(s.map_covariance), p.map_covariance.begin());
+  p.map_camera_position_m = {s.map_camera.position.x, s.map_camera.position.y,
+                             s.map_camera.position.z};
+  p.map_camera_quaternion_wxyz = {s.map_camera.orientation.w, s.map_camera.orientation.x,
+                                  s.map_camera.orientation.y, s.map_camera.orientation.z};
+  p.map_candidates = s.map_candidates;
+  p.map_reason = Text(s.map_reason);
   return p;
 }
 

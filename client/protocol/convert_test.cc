@@ -32,6 +32,17 @@ TEST(ConvertTest, PoseRoundTrip) {
   p.tracked = true;
   p.suspect = true;
   p.suspect_reason = "one edge is short";
+  p.map_status = MapStatus::kLocated;
+  p.map_corner = "hall-1";
+  p.map_room = "hall";
+  p.map_x_m = 3.25;
+  p.map_y_m = 1.5;
+  p.map_heading_rad = -0.4;
+  for (size_t i = 0; i < 9; ++i) p.map_covariance[i] = static_cast<double>(i) * 0.25;
+  p.map_camera_position_m = {3.3, 1.45, 0.4};
+  p.map_camera_quaternion_wxyz = {0.7, 0.1, 0.5, -0.3};
+  p.map_candidates = 1;
+  p.map_reason = "";
   monocle_msgs_msg_dds__CornerPose_ s;
   ToSample(p, &s);
   // ROS's quaternion order is x, y, z, w.
@@ -60,6 +71,22 @@ TEST(ConvertTest, PoseRoundTrip) {
   EXPECT_EQ(back.tracked, p.tracked);
   EXPECT_EQ(back.suspect, p.suspect);
   EXPECT_EQ(back.suspect_reason, p.suspect_reason);
+  EXPECT_EQ(s.map_status, monocle_msgs_msg_dds__MAP_LOCATED);
+  EXPECT_EQ(s.map_camera.orientation.w, 0.7) << "ROS order x, y, z, w";
+  EXPECT_EQ(s.map_camera.orientation.x, 0.1);
+  EXPECT_EQ(s.map_camera.orientation.z, -0.3);
+  EXPECT_EQ(back.map_status, p.map_status);
+  EXPECT_EQ(back.map_corner, p.map_corner);
+  EXPECT_EQ(back.map_room, p.map_room);
+  EXPECT_EQ(back.map_x_m, p.map_x_m);
+  EXPECT_EQ(back.map_y_m, p.map_y_m);
+  EXPECT_EQ(back.map_heading_rad, p.map_heading_rad);
+  EXPECT_EQ(back.map_covariance, p.map_covariance);
+  EXPECT_EQ(back.map_camera_position_m, p.map_camera_position_m);
+  EXPECT_EQ(back.map_camera_quaternion_wxyz, p.map_camera_quaternion_wxyz);
+  EXPECT_EQ(back.map_candidates, p.map_candidates);
+  s.map_status = static_cast<monocle_msgs_msg_dds__MapStatus>(17);
+  EXPECT_EQ(FromSample(s).map_status, MapStatus::kNone) << "a status from a newer service";
 
   Pose none;
   none.error = "no corner";

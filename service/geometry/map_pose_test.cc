@@ -251,6 +251,13 @@ TEST(MapPoseTrackerTest, FollowsTheRobotRoundASquareRoomFromAKnownStart) {
   EXPECT_FALSE(carried.decided());
   EXPECT_NEAR(tracker.NextPrior()->base.x_m, 1.5, 1e-9);
   EXPECT_DOUBLE_EQ(tracker.NextPrior()->max_distance_m, 0.8);
+  // Gates past their caps (1.5 m, 1.2 rad) hold nothing the room does not: the robot is lost.
+  for (int i = 0; i < 4; ++i) tracker.Missed();
+  ASSERT_TRUE(tracker.NextPrior().has_value());
+  EXPECT_DOUBLE_EQ(tracker.NextPrior()->max_heading_rad, 1.2);
+  tracker.Missed();
+  EXPECT_FALSE(tracker.NextPrior().has_value());
+  tracker.SetPose(start);
   tracker.Forget();
   EXPECT_FALSE(tracker.NextPrior().has_value());
 }
@@ -291,6 +298,52 @@ TEST(MapPoseTest, TheMountsLevelCorrectsATiltErrorAndFlagsAPoseThatTipsTheRobot)
   EXPECT_NE(l.suspect_reason.find("2.00 deg from level"), std::string::npos) << l.suspect_reason;
   EXPECT_FALSE(
       LocateInMap(map, mount, exact, SomeCovariance(), MapPosePrior{truth, 0.5, 0.5}).suspect);
+}
+
+TEST(MapPoseTrackerTest, RelocatesAfterThreeFramesTheRoomAloneDecides) {
+  RoomMap map;
+  map.rooms = {LRoom()};
+  const RigidTransform mount = Mount();
+  // A view of the L room that its shape alone decides (one candidate without a prior).
+  const MapCorner* seen = nullptr;
+  BasePose2d at;
+  for (const MapCorner& c : map.rooms[0].corners) {
+    for (double x = 0.8; x < 6.5 && seen == nullptr; x += 0.7) {
+      const BasePose2d b{x, 1.5, std::atan2(c.position_m.y() - 1.5, c.position_m.x() - x)};
+      const MapLocation l =
+          LocateInMap(map, mount, ObservedCornerPose(c, b, mount, 2.2), SomeCovariance(), {});
+      if (l.consistent.size() == 1 && l.consistent[0].corner_id == c.id) {
+        seen = &c;
+        at = b;
+      }
+    }
+  }
+  ASSERT_NE(seen, nullptr) << "no view of the L room is decided by its shape alone";
+  // The tracker believes the robot is elsewhere (a stale prior): the first two such frames
+  // are reported as contradicting it, the third relocates, the fourth is decided.
+  MapPoseTracker tracker(map, mount);
+  tracker.SetPose({at.x_m - 0.1, 4.5, at.heading_rad + 2.5});
+  for (int frame = 0; frame < 4; ++frame) {
+    const BasePose2d b{at.x_m + 0.02 * frame, at.y_m, at.heading_rad};
+    const MapLocation l =
+        tracker.Next(ObservedCornerPose(*seen, b, mount, 2.2), SomeCovariance(), {0, 0, 0});
+    if (frame < 3) {
+      EXPECT_TRUE(l.prior_contradicted) << "frame " << frame;
+      EXPECT_FALSE(l.decided()) << "frame " << frame;
+    } else {
+      ASSERT_TRUE(l.decided());
+      EXPECT_EQ(l.consistent[0].corner_id, seen->id);
+      EXPECT_NEAR(l.consistent[0].base.x_m, b.x_m, 1e-6);
+    }
+  }
+  // Frames that jump about (no two within the gates) never relocate.
+  MapPoseTracker jumpy(map, mount);
+  jumpy.SetPose({at.x_m - 0.1, 4.5, at.heading_rad + 2.5});
+  for (int frame = 0; frame < 4; ++frame) {
+    const BasePose2d b{at.x_m + (frame % 2 == 0 ? 0.0 : 0.8), at.y_m, at.heading_rad};
+    jumpy.Next(ObservedCornerPose(*seen, b, mount, 2.2), SomeCovariance(), {0, 0, 0});
+  }
+  EXPECT_NEAR(jumpy.NextPrior()->base.y_m, 4.5, 1e-9) << "still the old prior";
 }
 
 TEST(MapPoseTest, NoCornerFitsAViewFromOutsideEveryRoom) {

@@ -19,6 +19,17 @@ struct MapTrackerOptions {
   // more (a fixed gate after a gap lets a stale prior pick a wrong corner, or none).
   double widen_distance_m_per_frame = 0.1;
   double widen_heading_rad_per_frame = 0.1;
+  // Gates wider than this say nothing the room does not: the last pose is dropped and the
+  // room alone decides again (one candidate) or reports the view ambiguous. Without the cap
+  // a wrong or stale prior (a wrong initial pose) would, once wide enough to hold one
+  // look-alike corner but not the true one, pick that one.
+  double max_gate_distance_m = 1.5;
+  double max_gate_heading_rad = 1.2;
+  // When the prior is wrong (the robot was carried, frames were lost, a looped recording
+  // starts over), the room alone can still decide: this many consecutive frames with one
+  // candidate each, each within the gates of the one before, and that candidate becomes the
+  // prior again (the frames themselves stay undecided: reported, not published).
+  int frames_to_relocate = 3;
 };
 
 class MapPoseTracker {
@@ -37,7 +48,8 @@ class MapPoseTracker {
   // One frame without a corner pose.
   void Missed() { ++frames_since_pose_; }
 
-  // The prior the next frame will be judged against, if any.
+  // The prior the next frame will be judged against, if any (none once the gates would be
+  // wider than the caps).
   std::optional<MapPosePrior> NextPrior() const;
   const RoomMap& map() const { return map_; }
   const RigidTransform& base_camera() const { return base_camera_; }
@@ -48,6 +60,9 @@ class MapPoseTracker {
   MapTrackerOptions options_;
   std::optional<BasePose2d> last_;
   int frames_since_pose_ = 0;  // frames since `last_`, not counting the next one
+  // Consecutive frames the room alone placed at one candidate against the prior: the last.
+  std::optional<BasePose2d> relocating_;
+  int relocating_frames_ = 0;
 };
 
 }  // namespace monocle

@@ -55,6 +55,10 @@ CameraWorker::~CameraWorker() { Stop(); }
 
 void CameraWorker::Start() {
   acquisition_ = std::thread([this] { Acquire(); });
+  if (setup_.room_map && setup_.mount) {
+    map_tracker_.emplace(*setup_.room_map, MountTransform(*setup_.mount));
+    if (setup_.initial_pose) map_tracker_->SetPose(*setup_.initial_pose);
+  }
   if (setup_.corner()) processing_ = std::thread([this] { Process(); });
 }
 
@@ -181,6 +185,16 @@ void CameraWorker::Process() {
     }
     out.corner = ceiling_m > 0 ? tracker_->Process(frame.grey)
                                : LocateCorner(frame.grey, intrinsics, ceiling_m);
+    if (map_tracker_) {
+      if (out.corner) {
+        const CornerLocation& c = *out.corner;
+        out.map = map_tracker_->Next(
+            c.pose, c.covariance,
+            SeenEdgeExtentsAtLeast(intrinsics, c.pose, c.corner_px, c.line_end_px));
+      } else {
+        map_tracker_->Missed();
+      }
+    }
     out.processing_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::steady_clock::now() - received)
                             .count();

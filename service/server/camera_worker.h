@@ -15,6 +15,7 @@
 
 #include "camera/frame_source.h"
 #include "monocle/types.h"
+#include "service/geometry/map_pose_tracker.h"
 #include "service/io/calibration_file.h"
 #include "service/server/service_config.h"
 #include "service/vision/corner_locator.h"
@@ -28,7 +29,8 @@ struct ProcessedFrame {
   int64_t capture_time_ns = 0;
   bool camera_clock = false;
   Result<CornerLocation> corner = MakeError(ErrorCode::kNotFound, "not processed");
-  int64_t processing_ns = 0;  // frame received -> pose computed
+  std::optional<MapLocation> map;  // with a room map and a corner pose: where in the map
+  int64_t processing_ns = 0;       // frame received -> pose computed
 };
 
 struct WorkerStatus {
@@ -98,6 +100,7 @@ class CameraWorker {
   // Owned by the processing thread alone (not guarded): the corner tracker and what it was
   // made for.
   std::optional<CornerTracker> tracker_;
+  std::optional<MapPoseTracker> map_tracker_;  // with a room map (processing thread only)
   CameraIntrinsics tracker_intrinsics_;
   double tracker_ceiling_m_ = 0;
 

@@ -26,12 +26,6 @@ Result<std::unique_ptr<dds::Endpoint<T>>> OpenWriter(const std::shared_ptr<dds::
   return std::make_unique<dds::Endpoint<T>>(std::move(ep).value());
 }
 
-RigidTransform MountOf(const CameraSetup::Mount& m) {
-  const auto& q = m.rotation_xyzw;
-  return {Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized(),
-          Eigen::Vector3d(m.translation_m[0], m.translation_m[1], m.translation_m[2])};
-}
-
 void Report(const Status& s) {
   if (!s) std::cerr << "monocled: ROS 2 topic: " << s.error() << "\n";
 }
@@ -74,6 +68,12 @@ Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::En
           p, &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, WireTopic(cam, "pose"));
       if (!pose) return pose.error();
       c.pose = std::move(pose).value();
+      if (cam.room_map) {
+        auto map_pose = OpenWriter<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>(
+            p, &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, WireTopic(cam, "map_pose"));
+        if (!map_pose) return map_pose.error();
+        c.map_pose = std::move(map_pose).value();
+      }
     }
     auto info = OpenWriter<sensor_msgs_msg_dds__CameraInfo_>(
         p, &sensor_msgs_msg_dds__CameraInfo__desc, WireTopic(cam, "camera_info"));
@@ -163,21 +163,61 @@ void RosTopics::PublishPose(const CameraSetup& camera, const ProcessedFrame& fra
   for (int i = 0; i < 36; ++i) pose.pose.covariance[i] = covariance(i / 6, i % 6);
   Report(it->second.pose->Write(pose));
 
-  // tf: the camera, or (with a mount) the robot's base, in the parent frame.
+  // tf: the camera, or (with a mount) the robot's base, in the parent frame; with a room map
+  // the base in the map instead (one parent per frame in tf: the corner frame jumps from
+  // corner to corner, the map does not).
+  if (camera.room_map) {
+    PublishMapPose(camera, frame, it->second);
+    return;
+  }
   RigidTransform shown{c.q_corner_camera, position};
-  if (camera.mount) shown = BaseInParent(shown, MountOf(*camera.mount));
+  if (camera.mount) shown = BaseInParent(shown, MountTransform(*camera.mount));
+  PublishTransform(pose.header, camera.mount ? camera.mount->base_frame : camera.ros_frame, shown);
+}
+
+void RosTopics::PublishTransform(const std_msgs_msg_dds__Header_& header, const std::string& child,
+                                 const RigidTransform& parent_child) {
   geometry_msgs_msg_dds__TransformStamped_ transform{};
-  transform.header = pose.header;
-  transform.child_frame_id = Chars(camera.mount ? camera.mount->base_frame : camera.ros_frame);
-  transform.transform.translation = {shown.translation.x(), shown.translation.y(),
-                                     shown.translation.z()};
-  transform.transform.rotation = {shown.rotation.x(), shown.rotation.y(), shown.rotation.z(),
-                                  shown.rotation.w()};
+  transform.header = header;
+  transform.child_frame_id = Chars(child);
+  transform.transform.translation = {parent_child.translation.x(), parent_child.translation.y(),
+                                     parent_child.translation.z()};
+  transform.transform.rotation = {parent_child.rotation.x(), parent_child.rotation.y(),
+                                  parent_child.rotation.z(), parent_child.rotation.w()};
   tf2_msgs_msg_dds__TFMessage_ tf{};
   tf.transforms._buffer = &transform;
   tf.transforms._length = tf.transforms._maximum = 1;
   tf.transforms._release = false;
   Report(tf_->Write(tf));
+}
+
+void RosTopics::PublishMapPose(const CameraSetup& camera, const ProcessedFrame& frame,
+                               PerCamera& topics) {
+  // Only a located pose that nothing makes suspect: a ROS consumer cannot see the flags.
+  if (!frame.map || !frame.map->decided() || frame.map->suspect || !topics.map_pose ||
+      !camera.mount)
+    return;
+  const MapPoseCandidate& c = frame.map->consistent.front();
+  const RigidTransform map_base{
+      Eigen::Quaterniond(Eigen::AngleAxisd(c.base.heading_rad, Eigen::Vector3d::UnitZ())),
+      Eigen::Vector3d(c.base.x_m, c.base.y_m, 0)};
+  geometry_msgs_msg_dds__PoseWithCovarianceStamped_ pose{};
+  pose.header.stamp = RosTime(frame.capture_time_ns);
+  pose.header.frame_id = Chars(kMapFrame);
+  pose.pose.pose.position = {map_base.translation.x(), map_base.translation.y(), 0};
+  pose.pose.pose.orientation = {map_base.rotation.x(), map_base.rotation.y(), map_base.rotation.z(),
+                                map_base.rotation.w()};
+  // ROS order x, y, z, roll, pitch, yaw. The base stands on the floor: z, roll and pitch are
+  // known to the level the map assumes (MapCheckOptions::level_sigma_rad).
+  const double level_sigma = MapCheckOptions{}.level_sigma_rad;
+  const int from[3] = {0, 1, 5};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      pose.pose.covariance[from[a] * 6 + from[b]] = c.base_covariance(a, b);
+  pose.pose.covariance[2 * 6 + 2] = 1e-6;
+  pose.pose.covariance[3 * 6 + 3] = pose.pose.covariance[4 * 6 + 4] = level_sigma * level_sigma;
+  Report(topics.map_pose->Write(pose));
+  PublishTransform(pose.header, camera.mount->base_frame, map_base);
 }
 
 void RosTopics::PublishImage(const CameraSetup& camera, const Frame& frame) {

@@ -3,10 +3,13 @@
 // namespace (default /monocle/<camera>):
 //   <ns>/corner_pose  monocle_msgs/CornerPose, every processed frame (with or without a pose)
 //   <ns>/pose         geometry_msgs/PoseWithCovarianceStamped, every valid, unsuspected pose
+//   <ns>/map_pose     geometry_msgs/PoseWithCovarianceStamped, with a room map: the robot base
+//                     in the map, every located, unsuspected pose
 //   <ns>/camera_info  sensor_msgs/CameraInfo (plumb_bob), every status period
 //   <ns>/image_raw    sensor_msgs/Image mono8, only while subscribed, at most image_max_rate_hz
 // and for all cameras /tf (tf2_msgs/TFMessage, parent frame -> <camera>_optical, or with a
-// configured mount parent frame -> the robot's base frame, and /tf_static base -> optical),
+// configured mount parent frame -> the robot's base frame, with a room map map -> base, and
+// /tf_static base -> optical),
 // /diagnostics (diagnostic_msgs/DiagnosticArray, every status period), /monocle/cameras
 // (monocle_msgs/CameraStatus) and /monocle/calibrations (monocle_msgs/Calibration), the last
 // two with one transient-local writer per camera.
@@ -26,6 +29,9 @@
 #include "service/server/service_config.h"
 
 namespace monocle {
+
+// The map frame's name on /tf and map_pose (REP 105's "map").
+inline constexpr const char* kMapFrame = "map";
 
 class RosTopics {
  public:
@@ -55,11 +61,16 @@ class RosTopics {
     std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>> status;
     std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__Calibration_>> calibration;
     std::unique_ptr<dds::Endpoint<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> pose;
+    // With a room map: the robot base in the map.
+    std::unique_ptr<dds::Endpoint<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> map_pose;
     std::unique_ptr<dds::Endpoint<sensor_msgs_msg_dds__CameraInfo_>> camera_info;
     std::unique_ptr<dds::Endpoint<sensor_msgs_msg_dds__Image_>> image;
     std::chrono::steady_clock::time_point last_image{};
   };
   RosTopics() = default;
+  void PublishTransform(const std_msgs_msg_dds__Header_& header, const std::string& child,
+                        const RigidTransform& parent_child);
+  void PublishMapPose(const CameraSetup& camera, const ProcessedFrame& frame, PerCamera& topics);
 
   std::map<std::string, PerCamera> cameras_;  // by camera id
   std::unique_ptr<dds::Endpoint<tf2_msgs_msg_dds__TFMessage_>> tf_;

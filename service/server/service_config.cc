@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -13,6 +14,7 @@
 #include "idl/service_config.pb.h"
 #include "service/io/bounded_file.h"
 #include "service/io/calibration_file.h"
+#include "service/io/room_map_file.h"
 #include "service/io/text_proto.h"
 
 namespace monocle {
@@ -220,9 +222,58 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
         mount.rotation_xyzw[static_cast<size_t>(k)] = m.rotation_xyzw(k) / std::sqrt(norm2);
       cam.mount = mount;
     }
+    if (!c.room_map().empty()) {
+      if (!cam.mount) {
+        return errors.Camera(i, "room_map",
+                             "needs the camera's mount on the robot (mount { base_frame "
+                             "translation_m rotation_xyzw }): its height gives each corner's "
+                             "ceiling distance");
+      }
+      if (c.has_ceiling_distance_m()) {
+        return errors.Camera(i, "ceiling_distance_m",
+                             "is not used with a room_map: each corner's follows from the map's "
+                             "ceiling height and the mount's height; remove it");
+      }
+      std::filesystem::path map_path(c.room_map());
+      if (map_path.is_relative() && !base_dir.empty())
+        map_path = std::filesystem::path(base_dir) / map_path;
+      auto map = LoadRoomMapFile(map_path.lexically_normal().string());
+      if (!map) return errors.Camera(i, "room_map", "cannot be used: " + map.error().message);
+      const double height = cam.mount->translation_m[2];
+      for (const auto& room : map->rooms) {
+        if (!(height > 0 && height < room.ceiling_height_m - 0.1)) {
+          return errors.Camera(i, "mount.translation_m",
+                               "puts the camera " + std::to_string(height) +
+                                   " m above the floor: it must be above the floor and 0.1 m "
+                                   "below the ceiling of room '" +
+                                   room.id + "' of the room map",
+                               "mount");
+        }
+      }
+      cam.ceiling_distance_m = map->rooms.front().ceiling_height_m - height;
+      cam.room_map_path = map_path.lexically_normal().string();
+      cam.room_map = std::make_shared<const RoomMap>(std::move(*map));
+    }
+    if (c.initial_pose_size() > 0) {
+      if (!cam.room_map)
+        return errors.Camera(i, "initial_pose", "needs a room_map to be a pose in");
+      if (c.initial_pose_size() != 3)
+        return errors.Camera(i, "initial_pose", "needs 3 values: x_m, y_m, heading_deg");
+      const BasePose2d start{c.initial_pose(0), c.initial_pose(1),
+                             c.initial_pose(2) * std::numbers::pi / 180};
+      if (RoomContaining(*cam.room_map, {start.x_m, start.y_m}) == nullptr)
+        return errors.Camera(i, "initial_pose", "lies in no room of the room map");
+      cam.initial_pose = start;
+    }
     out.cameras.push_back(std::move(cam));
   }
   return out;
+}
+
+RigidTransform MountTransform(const CameraSetup::Mount& m) {
+  const auto& q = m.rotation_xyzw;
+  return {Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized(),
+          Eigen::Vector3d(m.translation_m[0], m.translation_m[1], m.translation_m[2])};
 }
 
 std::string RosNameToken(const std::string& name) {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,9 @@
 #include "camera/aravis/aravis_source.h"
 #include "camera/recording_source.h"
 #include "service/common/result.h"
+#include "service/geometry/map_pose.h"
+#include "service/geometry/robot_frames.h"
+#include "service/geometry/room_map.h"
 
 namespace monocle {
 
@@ -41,6 +45,11 @@ struct CameraSetup {
     std::array<double, 4> rotation_xyzw{0, 0, 0, 1};
   };
   std::optional<Mount> mount;
+  // A room map (README "Room map"), loaded and checked against the mount, and where the robot
+  // starts in it.
+  std::shared_ptr<const RoomMap> room_map;
+  std::string room_map_path;
+  std::optional<BasePose2d> initial_pose;
   // Frames from a recording instead of a device (`monocled --replay`, replay_setup.h): the
   // MCAP file, the namespace the camera had in it, and the pace.
   struct Replay {
@@ -53,6 +62,9 @@ struct CameraSetup {
   bool corner() const { return role != CameraRole::kFloor; }
   bool floor() const { return role != CameraRole::kCorner; }
 };
+
+// The mount as a rigid transform (optical frame in the base frame).
+RigidTransform MountTransform(const CameraSetup::Mount& mount);
 
 // Limits of a configuration, checked with the field named.
 inline constexpr int kMaxCamerasPerService = 64;

@@ -1,6 +1,47 @@
 #include "service/server/wire_values.h"
 
 namespace monocle {
+namespace {
+
+// The map_* fields of a pose (and its suspicion, when the mount disagrees with it).
+void SetMapFields(const MapLocation& where, Pose* p) {
+  p->map_candidates = static_cast<uint32_t>(where.consistent.size());
+  if (where.suspect) {
+    // The image and the mount disagree: the pose is suspect whichever frame it is given in.
+    p->suspect = true;
+    p->suspect_reason += (p->suspect_reason.empty() ? "" : "; ") + where.suspect_reason;
+  }
+  if (where.consistent.empty()) {
+    p->map_status = MapStatus::kNoCornerFits;
+    p->map_reason = where.why_none;
+    return;
+  }
+  if (!where.decided()) {
+    p->map_status = where.prior_contradicted ? MapStatus::kContradictsPrior : MapStatus::kAmbiguous;
+    p->map_reason = std::to_string(where.consistent.size()) + " map corners fit (" +
+                    where.consistent.front().corner_id;
+    for (size_t i = 1; i < where.consistent.size(); ++i)
+      p->map_reason += ", " + where.consistent[i].corner_id;
+    p->map_reason += where.prior_contradicted ? "), none near the last pose" : ")";
+    p->map_reason += ": give the robot's initial_pose in the configuration";
+    return;
+  }
+  const MapPoseCandidate& c = where.consistent.front();
+  p->map_status = MapStatus::kLocated;
+  p->map_corner = c.corner_id;
+  p->map_room = c.room_id;
+  p->map_x_m = c.base.x_m;
+  p->map_y_m = c.base.y_m;
+  p->map_heading_rad = c.base.heading_rad;
+  for (int i = 0; i < 9; ++i)
+    p->map_covariance[static_cast<size_t>(i)] = c.base_covariance(i / 3, i % 3);
+  p->map_camera_position_m = {c.map_camera.translation.x(), c.map_camera.translation.y(),
+                              c.map_camera.translation.z()};
+  const Eigen::Quaterniond& q = c.map_camera.rotation;
+  p->map_camera_quaternion_wxyz = {q.w(), q.x(), q.y(), q.z()};
+}
+
+}  // namespace
 
 Pose PoseOf(const CameraSetup& camera, const ProcessedFrame& frame) {
   Pose p;
@@ -31,6 +72,7 @@ Pose PoseOf(const CameraSetup& camera, const ProcessedFrame& frame) {
   p.tracked = c.source == CornerSource::kTracked;
   p.suspect = c.suspect;
   p.suspect_reason = c.suspect_reason;
+  if (frame.map) SetMapFields(*frame.map, &p);
   return p;
 }
 

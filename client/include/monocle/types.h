@@ -33,6 +33,16 @@ struct MeasuredPoint {
   bool ok() const { return status == Status::kMeasured; }
 };
 
+// Where a pose stands in a room map (monocle_msgs/CornerPose MAP_*).
+enum class MapStatus : uint8_t {
+  kNone = 0,              // no map configured, or no corner pose in this frame
+  kLocated = 1,           // one map corner fits: map_* hold the robot's pose
+  kAmbiguous = 2,         // several fit (map_candidates); none is guessed
+  kContradictsPrior = 3,  // corners fit, none near the last pose
+  kNoCornerFits = 4,      // no map corner is consistent with the view
+};
+MONOCLE_CLIENT_API const char* ToString(MapStatus status);  // "", "located", "ambiguous", ...
+
 struct Pose {
   std::string camera_id;
   std::string frame_id;         // the corner frame's name (configuration's ros_parent_frame)
@@ -51,6 +61,16 @@ struct Pose {
   bool tracked = false;       // followed from the previous frame's edges (false: detected)
   bool suspect = false;       // the edges support the pose poorly; `suspect_reason` says how
   std::string suspect_reason;
+  // In the room map the camera's configuration names (README "Room map"): which map corner,
+  // and the robot base in the map frame. kNone without a map or without a corner pose.
+  MapStatus map_status = MapStatus::kNone;
+  std::string map_corner, map_room;                      // kLocated
+  double map_x_m = 0, map_y_m = 0, map_heading_rad = 0;  // base; heading from +x to +y
+  std::array<double, 9> map_covariance{};                // row-major 3x3 of (x, y, heading)
+  std::array<double, 3> map_camera_position_m{};         // optical centre in the map
+  std::array<double, 4> map_camera_quaternion_wxyz{};    // optical frame -> map
+  uint32_t map_candidates = 0;                           // corners that fit (> 1: ambiguous)
+  std::string map_reason;                                // why not located, in words
 };
 
 enum class PoseWhich { kLatest, kNextFrame };
