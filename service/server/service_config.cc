@@ -3,6 +3,7 @@
 #include <cctype>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -242,12 +243,12 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
       const double height = cam.mount->translation_m[2];
       for (const auto& room : map->rooms) {
         if (!(height > 0 && height < room.ceiling_height_m - 0.1)) {
-          return errors.Camera(i, "mount.translation_m",
-                               "puts the camera " + std::to_string(height) +
-                                   " m above the floor: it must be above the floor and 0.1 m "
-                                   "below the ceiling of room '" +
-                                   room.id + "' of the room map",
-                               "mount");
+          char why[512];
+          std::snprintf(why, sizeof why,
+                        "puts the camera %.2f m above the floor: it must be above the floor and "
+                        "0.1 m below the ceiling of room '%.40s' (%.2f m) of the room map",
+                        height, room.id.c_str(), room.ceiling_height_m);
+          return errors.Camera(i, "mount.translation_m", why, "mount");
         }
       }
       cam.ceiling_distance_m = map->rooms.front().ceiling_height_m - height;

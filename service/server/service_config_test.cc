@@ -121,6 +121,53 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
   }
 }
 
+TEST(ServiceConfigTest, ARoomMapNeedsAMountAndIsCheckedAgainstIt) {
+  const std::string examples = std::string(MONOCLE_SOURCE_DIR) + "/idl/examples";
+  const std::string mount =
+      "  mount { base_frame: \"base_link\" translation_m: [0.1, 0, 0.4]\n"
+      "          rotation_xyzw: [-0.2988362, 0.2988362, -0.6408564, 0.6408564] }\n";
+  const auto good = ParseServiceConfig("camera {\n  device: \"a\"\n  role: CORNER\n"
+                                       "  calibration: \"y\"\n  room_map: \"room_map.pbtxt\"\n"
+                                       "  initial_pose: [1.4, 1.3, -20]\n" +
+                                           mount + "}\n",
+                                       "cfg", examples);
+  ASSERT_TRUE(good.ok()) << good.error();
+  const CameraSetup& cam = good->cameras[0];
+  ASSERT_TRUE(cam.room_map);
+  EXPECT_EQ(cam.room_map->rooms.size(), 2u);
+  EXPECT_EQ(cam.room_map_path, examples + "/room_map.pbtxt");
+  EXPECT_NEAR(*cam.ceiling_distance_m, 2.2, 1e-12) << "the hall's 2.6 m less the mount's 0.4 m";
+  ASSERT_TRUE(cam.initial_pose);
+  EXPECT_NEAR(cam.initial_pose->heading_rad, -20 * M_PI / 180, 1e-12);
+
+  struct Case {
+    std::string text, expected;
+  };
+  const std::string head = "camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n";
+  const Case cases[] = {
+      {head + "  room_map: \"room_map.pbtxt\"\n}\n",
+       "cfg: line 5: camera[0].room_map needs the camera's mount on the robot"},
+      {head + "  room_map: \"missing.pbtxt\"\n" + mount + "}\n",
+       "cfg: line 5: camera[0].room_map cannot be used: "},
+      {head + "  ceiling_distance_m: 2\n  room_map: \"room_map.pbtxt\"\n" + mount + "}\n",
+       "cfg: line 5: camera[0].ceiling_distance_m is not used with a room_map"},
+      {head + "  room_map: \"room_map.pbtxt\"\n"
+              "  mount { base_frame: \"b\" translation_m: [0, 0, 2.5] rotation_xyzw: [0, 0, 0, "
+              "1] }\n}\n",
+       "cfg: line 6: camera[0].mount.translation_m puts the camera 2.50 m above the floor: it must be above the floor and 0.1 m below the ceiling of room 'hall' (2.60 m)"},
+      {head + "  room_map: \"room_map.pbtxt\"\n  initial_pose: [20, 1, 0]\n" + mount + "}\n",
+       "cfg: line 6: camera[0].initial_pose lies in no room of the room map"},
+      {head + "  initial_pose: [1, 1, 0]\n" + mount + "}\n",
+       "cfg: line 5: camera[0].initial_pose needs a room_map"},
+  };
+  for (const auto& c : cases) {
+    const auto setup = ParseServiceConfig(c.text, "cfg", examples);
+    ASSERT_FALSE(setup.ok()) << c.text;
+    EXPECT_NE(setup.error().message.find(c.expected), std::string::npos)
+        << "expected '" << c.expected << "' in: " << setup.error().message;
+  }
+}
+
 // Issue 14: 200 000 cameras kept monocled busy (ignoring SIGTERM) for minutes; the count is
 // now refused where the first camera too many is written.
 TEST(ServiceConfigTest, RefusesMoreCamerasThanOneServiceServes) {
