@@ -124,8 +124,8 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
     for (size_t i = 0; i < o.base_trajectory.size(); ++i) {
       auto frame = RenderRoomFrame(cam->intrinsics_, o, o.base_trajectory[i], 100 + i);
       if (!frame) {
-        return MakeError(frame.error().code, "trajectory pose " + std::to_string(i + 1) + ": " +
-                                                 frame.error().message);
+        return MakeError(frame.error().code,
+                         "trajectory pose " + std::to_string(i + 1) + ": " + frame.error().message);
       }
       cam->frames_.push_back(std::move(*frame));
     }

@@ -173,11 +173,10 @@ int Simcam(const std::vector<std::string>& argv) {
     std::cout << kSimcamHelp;
     return kExitOk;
   }
-  auto args =
-      Args::Parse(argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps", "--frames",
-                          "--truth", "--calibration-out", "--trajectory", "--look-seed", "--map",
-                          "--mount"},
-                         {"--realistic"}});
+  auto args = Args::Parse(
+      argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps", "--frames", "--truth",
+              "--calibration-out", "--trajectory", "--look-seed", "--map", "--mount"},
+             {"--realistic"}});
   if (!args) return Fail(args.error(), kExitUsage);
   SimCameraOptions o;
   const std::string scene = args->Get("--scene").value_or("");

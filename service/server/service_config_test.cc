@@ -126,11 +126,12 @@ TEST(ServiceConfigTest, ARoomMapNeedsAMountAndIsCheckedAgainstIt) {
   const std::string mount =
       "  mount { base_frame: \"base_link\" translation_m: [0.1, 0, 0.4]\n"
       "          rotation_xyzw: [-0.2988362, 0.2988362, -0.6408564, 0.6408564] }\n";
-  const auto good = ParseServiceConfig("camera {\n  device: \"a\"\n  role: CORNER\n"
-                                       "  calibration: \"y\"\n  room_map: \"room_map.pbtxt\"\n"
-                                       "  initial_pose: [1.4, 1.3, -20]\n" +
-                                           mount + "}\n",
-                                       "cfg", examples);
+  const auto good = ParseServiceConfig(
+      "camera {\n  device: \"a\"\n  role: CORNER\n"
+      "  calibration: \"y\"\n  room_map: \"room_map.pbtxt\"\n"
+      "  initial_pose: [1.4, 1.3, -20]\n" +
+          mount + "}\n",
+      "cfg", examples);
   ASSERT_TRUE(good.ok()) << good.error();
   const CameraSetup& cam = good->cameras[0];
   ASSERT_TRUE(cam.room_map);
@@ -154,7 +155,8 @@ TEST(ServiceConfigTest, ARoomMapNeedsAMountAndIsCheckedAgainstIt) {
       {head + "  room_map: \"room_map.pbtxt\"\n"
               "  mount { base_frame: \"b\" translation_m: [0, 0, 2.5] rotation_xyzw: [0, 0, 0, "
               "1] }\n}\n",
-       "cfg: line 6: camera[0].mount.translation_m puts the camera 2.50 m above the floor: it must be above the floor and 0.1 m below the ceiling of room 'hall' (2.60 m)"},
+       "cfg: line 6: camera[0].mount.translation_m puts the camera 2.50 m above the floor: it must "
+       "be above the floor and 0.1 m below the ceiling of room 'hall' (2.60 m)"},
       {head + "  room_map: \"room_map.pbtxt\"\n  initial_pose: [20, 1, 0]\n" + mount + "}\n",
        "cfg: line 6: camera[0].initial_pose lies in no room of the room map"},
       {head + "  initial_pose: [1, 1, 0]\n" + mount + "}\n",

@@ -17,6 +17,7 @@
 #include "camera/render/room_renderer.h"
 #include "service/geometry/map_pose.h"
 #include "service/geometry/map_pose_tracker.h"
+#include "service/io/calibration_file.h"
 #include "service/io/room_map_file.h"
 #include "service/vision/corner_locator.h"
 
@@ -24,19 +25,6 @@ namespace monocle {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
-
-// A wide lens (the room's corners are 2-6 m away, above a camera looking 50 degrees up).
-CameraIntrinsics WideCamera() {
-  CameraIntrinsics k;
-  k.width_px = 1280;
-  k.height_px = 1024;
-  k.fx = k.fy = 700;
-  k.cx = 641.5;
-  k.cy = 509.0;
-  k.distortion[0] = -0.04;
-  k.distortion[1] = 0.01;
-  return k;
-}
 
 // Drive along straight legs, turning on the spot between them.
 std::vector<BasePose2d> Drive() {
@@ -99,7 +87,7 @@ double Percentile(std::vector<double> v, double q) {
 struct Fixture {
   RoomMap map;
   RigidTransform mount;
-  CameraIntrinsics k = WideCamera();
+  CameraIntrinsics k;  // idl/examples/wide_camera.pbtxt: f 700 px, the corners 2-6 m away
   const MapRoom& hall() const { return map.rooms[0]; }
 };
 
@@ -112,6 +100,10 @@ Fixture Load() {
       std::string(MONOCLE_SOURCE_DIR) + "/idl/examples/camera_mount.pbtxt", f.map);
   EXPECT_TRUE(mount.ok()) << mount.error();
   f.mount = *mount;
+  auto camera =
+      LoadCalibrationFile(std::string(MONOCLE_SOURCE_DIR) + "/idl/examples/wide_camera.pbtxt");
+  EXPECT_TRUE(camera.ok()) << camera.error();
+  f.k = camera->intrinsics;
   return f;
 }
 
