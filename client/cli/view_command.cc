@@ -238,15 +238,20 @@ int ViewCommand(const std::vector<std::string>& argv) {
     cv::Mat picture;
     cv::cvtColor(frame->grey, picture, cv::COLOR_GRAY2BGR);
     if (corner) {
-      // Its pose is published once the frame is processed: wait a moment for it.
+      // Its pose is published once the frame is processed: wait for it, until a pose of a
+      // later frame shows that the service skipped this one (poses come in frame order), or
+      // 5 s (a busy or slow service, e.g. a sanitizer build, takes more than a frame time).
       std::optional<Pose> pose;
-      for (int i = 0; i < 50 && !pose; ++i) {
+      bool skipped = false;
+      for (int i = 0; i < 250 && !pose && !skipped; ++i) {
         {
           std::lock_guard<std::mutex> lock(mutex);
-          for (const auto& p : poses)
+          for (const auto& p : poses) {
             if (p.capture_time_ns == frame->stamp_ns) pose = p;
+            skipped |= p.capture_time_ns > frame->stamp_ns;
+          }
         }
-        if (!pose) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        if (!pose && !skipped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
       DrawCornerView(picture, k, pose);
     } else if (file->floor) {

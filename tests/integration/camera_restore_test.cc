@@ -157,11 +157,14 @@ TEST(CameraRestoreTest, AKilledCameraIsReportedAndStreamsAgainEveryTime) {
     std::this_thread::sleep_for(100ms);
     threads_last = ProcStatus(monocled->pid(), "Threads");
   }
+  // Under ThreadSanitizer every access is instrumented and the service runs several times
+  // slower: the bounds are the product's promise, stretched by that factor, not relaxed.
+  const double slowdown = testing::kThreadSanitizer ? 3 : 1;
   for (int i = 0; i < kCycles; ++i) {
-    EXPECT_LE(lost_ms[i], 1500) << "cycle " << i + 1 << ": loss reported after " << lost_ms[i]
-                                << " ms";
-    EXPECT_LE(back_ms[i], 1000) << "cycle " << i + 1 << ": streaming " << back_ms[i]
-                                << " ms after the camera answered";
+    EXPECT_LE(lost_ms[i], 1500 * slowdown)
+        << "cycle " << i + 1 << ": loss reported after " << lost_ms[i] << " ms";
+    EXPECT_LE(back_ms[i], 1000 * slowdown)
+        << "cycle " << i + 1 << ": streaming " << back_ms[i] << " ms after the camera answered";
   }
   std::cout << "loss reported after (ms):";
   for (double v : lost_ms) std::cout << " " << static_cast<int>(v);
@@ -171,7 +174,9 @@ TEST(CameraRestoreTest, AKilledCameraIsReportedAndStreamsAgainEveryTime) {
             << " after the cycles; RSS " << rss_first_kb / 1024.0 << " -> " << rss_last_kb / 1024.0
             << " MB (cycles 2 -> " << kCycles << ")\n";
   EXPECT_EQ(threads_last, threads_streaming);
-  if (!testing::kUnderAddressSanitizer) {
+  // Memory figures mean nothing under a sanitizer: AddressSanitizer quarantines freed memory,
+  // ThreadSanitizer keeps shadow memory and access histories (its leak check is LSan's job).
+  if (!testing::kUnderAddressSanitizer && !testing::kThreadSanitizer) {
     EXPECT_LE(rss_last_kb - rss_first_kb, 8 * 1024);
   }
   EXPECT_EQ(monocled->Stop(), 0) << ReadFile(dir / "monocled.log");

@@ -62,7 +62,9 @@ TEST(RoomMapServiceTest, PosesInTheMapFrameOnTheWireAndOnTf) {
        kExamples + "camera_mount.pbtxt", "--trajectory", kExamples + "drive.txt", "--realistic",
        "--look-seed", "5", "--fps", "10", "--calibration-out", dir / "sim.pbtxt"},
       dir / "simcam.log");
-  for (int i = 0; i < 600 && !std::ifstream(dir / "sim.pbtxt"); ++i)
+  // simcam renders the 25 frames first (minutes under ThreadSanitizer).
+  const int wait_100ms = testing::kThreadSanitizer ? 3000 : 600;
+  for (int i = 0; i < wait_100ms && !std::ifstream(dir / "sim.pbtxt"); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
   auto monocled = testing::StartMonocled(dir, "domain: " + std::to_string(kDomain) + R"(
@@ -134,7 +136,9 @@ camera {
   // The initial pose is where the drive starts, but the camera's frame counter is not: the
   // service starts anywhere on the looping drive, and again at each jump back to the start
   // must find the robot by the room alone (views near a corner are ambiguous until then).
-  EXPECT_GE(located, 30);
+  // Under ThreadSanitizer monocled keeps up with a fraction of the frames: the robot then
+  // moves further between processed frames than a prior's gates allow, and fewer are located.
+  EXPECT_GE(located, testing::kThreadSanitizer ? 5 : 30);
 
   // map_pose in "map" and /tf map -> base_link, on the drive.
   int map_poses = 0;

@@ -41,7 +41,10 @@ TEST(TrackingStreamTest, TrackedPosesAgreeWithTheTruthAsWellAsDetectedOnes) {
       {"simcam", "--scene", "corner", "--realistic", "--look-seed", "4", "--fps", "15",
        "--trajectory", dir / "trajectory.txt", "--calibration-out", dir / "sim.pbtxt"},
       dir / "simcam.log");
-  for (int i = 0; i < 300 && !std::ifstream(dir / "sim.pbtxt"); ++i)
+  // simcam renders its 30 realistic frames before it serves (and writes the calibration);
+  // under ThreadSanitizer that takes minutes, not seconds.
+  const int wait_100ms = testing::kThreadSanitizer ? 3000 : 300;
+  for (int i = 0; i < wait_100ms && !std::ifstream(dir / "sim.pbtxt"); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
   auto monocled = testing::StartMonocled(dir, "domain: " + std::to_string(kDomain) + R"(
