@@ -109,6 +109,16 @@ class Directory {
     return first_heard_;
   }
 
+  // Whether every status writer discovered so far (one per camera of each service) has been
+  // heard: a slow process (a loaded machine, a sanitizer) discovers a second service later
+  // than the first, and a list cut short would hide it.
+  bool HeardEveryWriter() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    dds_subscription_matched_status_t st{};
+    if (dds_get_subscription_matched_status(reader_->reader(), &st) < 0) return true;
+    return entries_.size() >= st.current_count;
+  }
+
  private:
   std::mutex mutex_;
   std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>> reader_;
@@ -425,8 +435,18 @@ ClientResult<std::vector<CameraStatus>> Client::status() {
   for (;;) {
     entries = impl_->directory->Update(kPoll);
     const auto first = impl_->directory->first_heard();
-    if (first && Clock::now() - *first > 3 * kPoll) break;
-    if (Clock::now() >= deadline) break;
+    const auto now = Clock::now();
+    if (first && now - *first > 3 * kPoll &&
+        (impl_->directory->HeardEveryWriter() || now - *first > kDiscoveryGrace))
+      break;
+    if (now >= deadline) break;
+  }
+  if (entries.empty() && impl_->directory->first_heard()) {
+    return ClientError{
+        ClientError::Code::kNoService,
+        "the monocle service on DDS domain " + std::to_string(impl_->options.domain) +
+            " stopped sending status (none for " + std::to_string(kStatusStale.count() / 1000) +
+            " s): has monocled stopped or stalled?"};
   }
   if (entries.empty()) return NoService(impl_->options.domain, impl_->options.timeout, "status");
   std::vector<CameraStatus> out;

@@ -35,16 +35,9 @@ std::string Join(const std::vector<std::string>& v) {
   return out;
 }
 
-// Aravis's device list is global; updates are not thread-safe.
-std::mutex& DeviceListMutex() {
-  static std::mutex m;
-  return m;
-}
-
-// Device id for an id, IPv4 address or serial number.
+// Device id for an id, IPv4 address or serial number. Call with AravisSetupMutex held.
 std::optional<std::string> ResolveDevice(const std::string& name) {
   if (LooksLikeIpv4(name)) return name;  // Aravis opens GigE cameras by address directly
-  std::lock_guard<std::mutex> lock(DeviceListMutex());
   arv_update_device_list();
   const unsigned n = arv_get_n_devices();
   for (unsigned i = 0; i < n; ++i) {
@@ -127,6 +120,11 @@ Status Configure(ArvCamera* camera, const AravisOptions& o) {
   {
     guint n = 0;
     const char** formats = arv_camera_dup_available_pixel_formats_as_strings(camera, &n, err.out());
+    // A camera that could not be asked is not a camera without the format: retried.
+    if (err.failed()) {
+      g_free(formats);
+      return Fail(ErrorCode::kIo, "cannot read the camera's pixel formats: " + err.message());
+    }
     std::vector<std::string> offered;
     for (guint i = 0; formats != nullptr && i < n; ++i) offered.emplace_back(formats[i]);
     g_free(formats);
@@ -247,8 +245,13 @@ void OnControlLost(ArvDevice*, gpointer data) {
 
 }  // namespace
 
+std::mutex& AravisSetupMutex() {
+  static std::mutex m;
+  return m;
+}
+
 std::vector<CameraInfo> ListCameras() {
-  std::lock_guard<std::mutex> lock(DeviceListMutex());
+  std::lock_guard<std::mutex> lock(AravisSetupMutex());
   arv_update_device_list();
   std::vector<CameraInfo> out;
   auto str = [](const char* s) { return std::string(s != nullptr ? s : ""); };
@@ -276,9 +279,11 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
     // is 20.
     sim.serial = options.device.size() <= 15 ? options.device : "sim-realistic";
     sim.trajectory_frames = 8;
+    sim.cancelled = options.cancelled;
     auto scenes = SimScenes::Render(sim);
     if (!scenes) return scenes.error();
     src->scenes_ = *scenes;
+    std::lock_guard<std::mutex> lock(AravisSetupMutex());  // held until it streams
     src->fake_device_ = GObjectPtr<ArvDevice>(arv_fake_device_new(sim.serial.c_str(), err.out()));
     if (!src->fake_device_)
       return Fail(ErrorCode::kIo, "cannot create simulated camera: " + err.message());
@@ -292,6 +297,7 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
                   options.device, "in-process", "Fake"};
     return Start(std::move(src), options);
   }
+  std::lock_guard<std::mutex> lock(AravisSetupMutex());  // held until it streams
   const auto device = ResolveDevice(options.device);
   if (!device) {
     return Fail(ErrorCode::kNotFound,

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -25,6 +27,10 @@ struct AravisOptions {
   // Any other GenICam feature by name, value as text; checked against the device.
   std::vector<std::pair<std::string, std::string>> features;
   int buffers = 4;  // ring handed to the pipeline without copying
+  // True once the caller has been asked to stop: an open that takes long (a simulated camera
+  // rendering its frames, seconds under a sanitizer) gives up between its steps with
+  // kCancelled, so a service stops promptly at every stage.
+  std::function<bool()> cancelled;
 };
 
 // A camera as Aravis lists it.
@@ -33,6 +39,14 @@ struct CameraInfo {
 };
 
 std::vector<CameraInfo> ListCameras();
+
+// Aravis 0.8 cannot set up two cameras at once in one process: its device list is global,
+// and two GenICam descriptions parsed on two threads corrupt each other (two "sim-floor"
+// cameras opened together: "arv_dom_node_append_child: self is not a ArvDomNode", an empty
+// pixel format list, a crash in g_hash_table_lookup; AravisGigeTest.TwoCamerasOpenAtOnce).
+// Listing, opening and configuring a camera (real, fake or simulated GigE) hold this lock:
+// cameras are set up one at a time and stream in parallel.
+std::mutex& AravisSetupMutex();
 
 class AravisSource : public FrameSource {
  public:

@@ -28,6 +28,8 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
       }
       auto opened = AravisSource::Open(options_);
       if (!opened) {
+        // Asked to stop while opening: nothing to report, the caller is going away.
+        if (opened.error().code == ErrorCode::kCancelled) return opened.error();
         if (IsPermanentCameraError(opened.error())) {
           failed_ = opened.error();
           SetState(CameraState::kFailed, opened.error().message);

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <numbers>
 #include <sstream>
 
+#include "camera/aravis/aravis_source.h"
 #include "camera/aravis/tsan_handoff.h"
 #include "camera/render/corner_renderer.h"
 #include "camera/render/floor_renderer.h"
@@ -96,6 +98,10 @@ Result<cv::Mat> RenderRoomFrame(const CameraIntrinsics& k, const SimCameraOption
   return RenderRoomView(k, *room, map_camera, scene);
 }
 
+Error RenderCancelled() {
+  return {ErrorCode::kCancelled, "stopped while the simulated camera rendered its frames"};
+}
+
 }  // namespace
 
 Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) {
@@ -122,6 +128,7 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
     cam->intrinsics_ = SimRoomIntrinsics(o.width, o.height);
     cam->floor_pose_ = SimFloorPose();
     for (size_t i = 0; i < o.base_trajectory.size(); ++i) {
+      if (o.cancelled && o.cancelled()) return RenderCancelled();
       auto frame = RenderRoomFrame(cam->intrinsics_, o, o.base_trajectory[i], 100 + i);
       if (!frame) {
         return MakeError(frame.error().code,
@@ -144,6 +151,7 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   }
   cam->floor_pose_ = SimFloorPose();
   for (int i = 0; i < (o.scene == SimScene::kCorner ? n : 2); ++i) {
+    if (o.cancelled && o.cancelled()) return RenderCancelled();
     if (o.scene == SimScene::kCorner) {
       CornerScene scene;
       scene.noise_sigma = o.noise_sigma;
@@ -184,6 +192,7 @@ Result<std::unique_ptr<SimGvCamera>> SimGvCamera::Start(const SimCameraOptions& 
   if (!scenes) return scenes.error();
   std::unique_ptr<SimGvCamera> cam(new SimGvCamera());
   cam->scenes_ = *scenes;
+  std::lock_guard<std::mutex> lock(AravisSetupMutex());
   cam->camera_ =
       GObjectPtr<ArvGvFakeCamera>(arv_gv_fake_camera_new(o.ip.c_str(), o.serial.c_str()));
   if (!cam->camera_ || !arv_gv_fake_camera_is_running(cam->camera_.get())) {

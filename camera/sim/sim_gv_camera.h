@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
@@ -41,6 +42,8 @@ struct SimCameraOptions {
   RoomMap room_map;
   RigidTransform mount;
   std::vector<BasePose2d> base_trajectory;
+  // Checked between rendered frames: true makes Render give up with kCancelled.
+  std::function<bool()> cancelled;
 };
 
 // The room scene's lens: focal length 700 px at 1280 px wide (about 85 degrees across), a

@@ -103,8 +103,14 @@ void CameraWorker::Acquire() {
     source = std::move(*opened);
     SetState(CameraState::kStreaming, "");
   } else {
+    AravisOptions options = setup_.options;
+    options.cancelled = [this] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      return stop_;
+    };
     source = std::make_unique<ReconnectingSource>(
-        setup_.options, [this](CameraState s, const std::string& reason) { SetState(s, reason); },
+        std::move(options),
+        [this](CameraState s, const std::string& reason) { SetState(s, reason); },
         setup_.stall_timeout);
   }
   while (true) {

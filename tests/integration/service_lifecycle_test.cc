@@ -96,7 +96,7 @@ TEST(ServiceLifecycleTest, AConfigurationErrorIsReportedOnceAsFailed) {
   std::optional<CameraStatus> first;
   for (int attempt = 0; attempt < 120 && !first; ++attempt) {
     const auto status = client_->status();
-    ASSERT_TRUE(status.ok()) << status.error();
+    ASSERT_TRUE(status.ok()) << status.error() << "\n" << ReadFile(dir / "monocled.log");
     for (const auto& s : *status)
       if (s.camera_id == "misconfigured" && s.state == CameraState::kFailed) first = s;
     if (!first) std::this_thread::sleep_for(std::chrono::milliseconds(250));
