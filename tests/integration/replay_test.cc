@@ -187,7 +187,8 @@ camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtx
             << " live poses (" << frame_not_recorded << " of frames the recorder missed), "
             << compared << " compared, " << identical_detections
             << " detected in both (bit for bit)\n";
-  EXPECT_GE(compared, 30);
+  // Under ThreadSanitizer the recorder keeps about half the frames (below): 20 comparisons.
+  EXPECT_GE(compared, testing::kThreadSanitizer ? 20 : 30);
   EXPECT_GE(identical_detections, 10);
   // Under ThreadSanitizer every memory access is instrumented and a 1.3 MB frame's copy into
   // the recording takes ten times as long: the recorder keeps fewer frames there, and only
