@@ -436,8 +436,10 @@ ClientResult<std::vector<CameraStatus>> Client::status() {
     entries = impl_->directory->Update(kPoll);
     const auto first = impl_->directory->first_heard();
     const auto now = Clock::now();
-    if (first && now - *first > 3 * kPoll &&
-        (impl_->directory->HeardEveryWriter() || now - *first > kDiscoveryGrace))
+    // A second service is discovered a little after the first (its participant, then its
+    // writers): a whole listing waits the discovery grace, and on for writers not yet heard.
+    if (first && now - *first > kDiscoveryGrace &&
+        (impl_->directory->HeardEveryWriter() || now - *first > 2 * kDiscoveryGrace))
       break;
     if (now >= deadline) break;
   }

@@ -10,6 +10,7 @@
 
 #include "camera/render/photograph.h"
 #include "camera/render/reference_camera.h"
+#include "camera/render/supersampled_view.h"
 
 namespace monocle {
 namespace {
@@ -207,48 +208,12 @@ cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
   const Eigen::Matrix3d corner_from_camera = reference::RotationCameraFromCorner(pose).transpose();
   const Eigen::Vector3d origin(pose.x_m, pose.y_m, pose.z_m);
   const bool clutter = scene.clutter && !scene.realistic;
-  const cv::Mat rays = reference::UndistortedPixelGrid(k);
-  auto cast = [&](const cv::Point2d& n) {
-    return CastRay(origin, corner_from_camera * Eigen::Vector3d(n.x, n.y, 1), scene, clutter);
-  };
-  cv::Mat value(h, w, CV_32F), material(h, w, CV_8U);
-  for (int v = 0; v < h; ++v) {
-    auto* val = value.ptr<float>(v);
-    auto* mat = material.ptr<uint8_t>(v);
-    const auto* ray = rays.ptr<cv::Point2d>(v);
-    for (int u = 0; u < w; ++u) {
-      const Hit hit = cast(ray[u]);
-      val[u] = static_cast<float>(Shade(hit, scene));
-      mat[u] = hit.material;
-    }
-  }
-  // Supersample 4x4 where a neighbour has another material: each pixel averages its 16
-  // sub-pixel rays (pixel centres at integer coordinates, the pixel spans +-0.5).
-  std::vector<cv::Point> boundary;
-  std::vector<cv::Point2d> samples;
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const uint8_t m = material.at<uint8_t>(v, u);
-      bool is_boundary = false;
-      for (int dv = -1; dv <= 1 && !is_boundary; ++dv) {
-        for (int du = -1; du <= 1 && !is_boundary; ++du) {
-          const int uu = std::clamp(u + du, 0, w - 1), vv = std::clamp(v + dv, 0, h - 1);
-          is_boundary = material.at<uint8_t>(vv, uu) != m;
-        }
-      }
-      if (!is_boundary) continue;
-      boundary.emplace_back(u, v);
-      for (int sy = 0; sy < 4; ++sy)
-        for (int sx = 0; sx < 4; ++sx)
-          samples.emplace_back(u + (sx + 0.5) / 4 - 0.5, v + (sy + 0.5) / 4 - 0.5);
-    }
-  }
-  const auto sample_rays = reference::UndistortPixels(k, samples);
-  for (size_t i = 0; i < boundary.size(); ++i) {
-    double sum = 0;
-    for (int s = 0; s < 16; ++s) sum += Shade(cast(sample_rays[16 * i + s]), scene);
-    value.at<float>(boundary[i]) = static_cast<float>(sum / 16);
-  }
+  cv::Mat value = RenderSupersampledView(k, [&](const cv::Point2d& n, int32_t* material) {
+    const Hit hit =
+        CastRay(origin, corner_from_camera * Eigen::Vector3d(n.x, n.y, 1), scene, clutter);
+    *material = hit.material;
+    return Shade(hit, scene);
+  });
   if (scene.realistic) {
     const RealisticLook& l = *scene.realistic;
     return Photograph(value,

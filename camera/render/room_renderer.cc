@@ -6,6 +6,7 @@
 
 #include "camera/render/photograph.h"
 #include "camera/render/reference_camera.h"
+#include "camera/render/supersampled_view.h"
 
 namespace monocle {
 namespace {
@@ -85,51 +86,13 @@ double Shade(const MapRoom& room, const Hit& hit, const RoomScene& scene) {
 
 cv::Mat RenderRoomView(const CameraIntrinsics& k, const MapRoom& room,
                        const Eigen::Isometry3d& map_from_camera, const RoomScene& scene) {
-  const int w = k.width_px, h = k.height_px;
   const Eigen::Matrix3d rotation = map_from_camera.linear();
   const Eigen::Vector3d origin = map_from_camera.translation();
-  const cv::Mat rays = reference::UndistortedPixelGrid(k);
-  auto cast = [&](const cv::Point2d& n) {
-    return CastRay(room, origin, rotation * Eigen::Vector3d(n.x, n.y, 1));
-  };
-  cv::Mat value(h, w, CV_32F), surface(h, w, CV_32S);
-  for (int v = 0; v < h; ++v) {
-    auto* val = value.ptr<float>(v);
-    auto* surf = surface.ptr<int32_t>(v);
-    const auto* ray = rays.ptr<cv::Point2d>(v);
-    for (int u = 0; u < w; ++u) {
-      const Hit hit = cast(ray[u]);
-      val[u] = static_cast<float>(Shade(room, hit, scene));
-      surf[u] = hit.surface;
-    }
-  }
-  // Supersample 4x4 where a neighbour shows another surface (pixel centres at integer
-  // coordinates, each pixel spans +-0.5).
-  std::vector<cv::Point> boundary;
-  std::vector<cv::Point2d> samples;
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const int32_t s = surface.at<int32_t>(v, u);
-      bool is_boundary = false;
-      for (int dv = -1; dv <= 1 && !is_boundary; ++dv) {
-        for (int du = -1; du <= 1 && !is_boundary; ++du) {
-          const int uu = std::clamp(u + du, 0, w - 1), vv = std::clamp(v + dv, 0, h - 1);
-          is_boundary = surface.at<int32_t>(vv, uu) != s;
-        }
-      }
-      if (!is_boundary) continue;
-      boundary.emplace_back(u, v);
-      for (int sy = 0; sy < 4; ++sy)
-        for (int sx = 0; sx < 4; ++sx)
-          samples.emplace_back(u + (sx + 0.5) / 4 - 0.5, v + (sy + 0.5) / 4 - 0.5);
-    }
-  }
-  const auto sample_rays = reference::UndistortPixels(k, samples);
-  for (size_t i = 0; i < boundary.size(); ++i) {
-    double sum = 0;
-    for (int s = 0; s < 16; ++s) sum += Shade(room, cast(sample_rays[16 * i + s]), scene);
-    value.at<float>(boundary[i]) = static_cast<float>(sum / 16);
-  }
+  cv::Mat value = RenderSupersampledView(k, [&](const cv::Point2d& n, int32_t* surface) {
+    const Hit hit = CastRay(room, origin, rotation * Eigen::Vector3d(n.x, n.y, 1));
+    *surface = hit.surface;
+    return Shade(room, hit, scene);
+  });
   if (scene.realistic) {
     const RealisticLook& l = *scene.realistic;
     return Photograph(value,
