@@ -42,7 +42,7 @@ ClientError NoService(int domain, milliseconds timeout, const std::string& what)
                                              " ms: is monocled running, on that domain?"};
 }
 
-ClientError::Code CodeOf(monocle_msgs_msg_dds__RequestStatus status) {
+ClientError::Code CodeOf(uint32_t status) {
   return status == monocle_msgs_msg_dds__REQUEST_INVALID ? ClientError::Code::kInvalidRequest
                                                          : ClientError::Code::kFailed;
 }
@@ -381,8 +381,8 @@ ClientResult<std::vector<MeasuredPoint>> Client::measure(const std::string& came
       &monocle_msgs_srv_dds__MeasurePoints_Response__desc, request,
       [](const monocle_msgs_srv_dds__MeasurePoints_Response_& r)
           -> ClientResult<std::vector<MeasuredPoint>> {
-        if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
-          return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
+        if (wire::EnumValue(r.status) != monocle_msgs_msg_dds__REQUEST_OK)
+          return ClientError{CodeOf(wire::EnumValue(r.status)), r.error != nullptr ? r.error : ""};
         auto points = wire::FromSample(r);
         if (!points) return ClientError{ClientError::Code::kFailed, points.error().message};
         return std::move(points).value();
@@ -401,8 +401,8 @@ ClientResult<Pose> Client::pose(const std::string& camera, PoseWhich which) {
       impl_->poses, camera, "corner", wire::kGetPose, &monocle_msgs_srv_dds__GetPose_Request__desc,
       &monocle_msgs_srv_dds__GetPose_Response__desc, request,
       [](const monocle_msgs_srv_dds__GetPose_Response_& r) -> ClientResult<Pose> {
-        if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
-          return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
+        if (wire::EnumValue(r.status) != monocle_msgs_msg_dds__REQUEST_OK)
+          return ClientError{CodeOf(wire::EnumValue(r.status)), r.error != nullptr ? r.error : ""};
         return wire::FromSample(r.pose);
       },
       milliseconds(250));  // the next frame's pose can take a frame period and its processing
@@ -421,8 +421,8 @@ ClientResult<FloorCalibrationResult> Client::calibrate_floor(const std::string& 
       &monocle_msgs_srv_dds__CalibrateFloor_Response__desc, request,
       [](const monocle_msgs_srv_dds__CalibrateFloor_Response_& r)
           -> ClientResult<FloorCalibrationResult> {
-        if (r.status != monocle_msgs_msg_dds__REQUEST_OK)
-          return ClientError{CodeOf(r.status), r.error != nullptr ? r.error : ""};
+        if (wire::EnumValue(r.status) != monocle_msgs_msg_dds__REQUEST_OK)
+          return ClientError{CodeOf(wire::EnumValue(r.status)), r.error != nullptr ? r.error : ""};
         return wire::FromSample(r);
       },
       milliseconds(0));  // never sent twice: it rewrites the calibration file

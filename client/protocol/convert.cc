@@ -8,6 +8,8 @@ namespace {
 
 std::string Text(const char* s) { return s != nullptr ? s : ""; }
 char* Chars(const std::string& s) { return const_cast<char*>(s.c_str()); }
+// A sample borrows the characters until it is written: never those of a temporary.
+char* Chars(std::string&&) = delete;
 
 // A sequence that borrows `v`'s buffer (not released by DDS).
 template <typename Seq, typename T>
@@ -86,8 +88,8 @@ Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
   p.frame_id = Text(s.header.frame_id);
   p.frame_sequence = s.frame_sequence;
   p.capture_time_ns = UnixNs(s.header.stamp);
-  p.camera_clock = s.time_source == monocle_msgs_msg_dds__TIME_CAMERA_CLOCK;
-  p.valid = s.status == monocle_msgs_msg_dds__POSE_VALID;
+  p.camera_clock = EnumValue(s.time_source) == monocle_msgs_msg_dds__TIME_CAMERA_CLOCK;
+  p.valid = EnumValue(s.status) == monocle_msgs_msg_dds__POSE_VALID;
   p.error = Text(s.error);
   p.x_m = s.position.x;
   p.y_m = s.position.y;
@@ -104,8 +106,9 @@ Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
   p.suspect = s.suspect;
   p.suspect_reason = Text(s.suspect_reason);
   // An unknown status (a newer service) reads as no map rather than as a wrong one.
-  p.map_status = s.map_status <= monocle_msgs_msg_dds__MAP_NO_CORNER_FITS
-                     ? static_cast<MapStatus>(s.map_status)
+  const uint32_t map_status = EnumValue(s.map_status);
+  p.map_status = map_status <= monocle_msgs_msg_dds__MAP_NO_CORNER_FITS
+                     ? static_cast<MapStatus>(map_status)
                      : MapStatus::kNone;
   p.map_corner = Text(s.map_corner);
   p.map_room = Text(s.map_room);
@@ -149,7 +152,7 @@ CameraStatus FromSample(const monocle_msgs_msg_dds__CameraStatus_& s) {
   c.service = Text(s.service);
   c.device = Text(s.device);
   c.role = Text(s.role);
-  switch (s.state) {
+  switch (EnumValue(s.state)) {
     case monocle_msgs_msg_dds__CAMERA_STREAMING:
       c.state = CameraState::kStreaming;
       break;
@@ -328,7 +331,12 @@ Result<std::vector<MeasuredPoint>> FromSample(
   std::vector<MeasuredPoint> out(n);
   for (uint32_t i = 0; i < n; ++i) {
     auto& p = out[i];
-    p.status = static_cast<MeasuredPoint::Status>(s.point_status._buffer[i]);
+    const uint32_t status = EnumValue(s.point_status._buffer[i]);
+    p.status = status <= monocle_msgs_msg_dds__POINT_NOT_MEASURABLE
+                   ? static_cast<MeasuredPoint::Status>(status)
+                   : MeasuredPoint::Status::kNotMeasurable;
+    if (status > monocle_msgs_msg_dds__POINT_NOT_MEASURABLE)
+      p.error = "unknown point status " + std::to_string(status) + " (from a newer service?)";
     p.p_robot_m = {s.x._buffer[i], s.y._buffer[i], s.z._buffer[i]};
     p.sigma_m = {s.sigma_x._buffer[i], s.sigma_y._buffer[i], s.sigma_z._buffer[i]};
   }

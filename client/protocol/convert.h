@@ -4,6 +4,8 @@
 // alive until the sample is written. FromSample copies everything out of the sample.
 #pragma once
 
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,17 @@
 namespace monocle::wire {
 
 using WireRequestStatus = monocle_msgs_msg_dds__RequestStatus;
+
+// An enum field of a received sample as the integer it carries: a newer (or hostile) peer
+// may send a value the enum type does not have, and loading that as the enum type is
+// undefined behaviour (UBSan: "not a valid value for type"). Compare the integer instead.
+template <typename WireEnum>
+uint32_t EnumValue(const WireEnum& field) {
+  static_assert(sizeof(WireEnum) == sizeof(uint32_t), "IDL enums are 32 bits on the wire");
+  uint32_t value = 0;
+  std::memcpy(&value, &field, sizeof value);
+  return value;
+}
 
 builtin_interfaces_msg_dds__Time_ RosTime(int64_t unix_ns);
 int64_t UnixNs(const builtin_interfaces_msg_dds__Time_& t);

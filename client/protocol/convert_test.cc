@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace monocle::wire {
@@ -247,6 +248,14 @@ TEST(ConvertTest, PointReplyRoundTrip) {
   EXPECT_EQ((*back)[1].status, MeasuredPoint::Status::kNotMeasurable);
   EXPECT_EQ((*back)[1].error, "above the horizon");
   EXPECT_EQ((*back)[2].status, MeasuredPoint::Status::kInvalidPixel);
+  // A status this client does not know (a newer service) is "not measured", with why; read
+  // as an integer, never loaded as the enum type (UBSan).
+  uint32_t unknown = 17;
+  std::memcpy(&columns.status[0], &unknown, sizeof unknown);
+  const auto newer = FromSample(s);
+  ASSERT_TRUE(newer.ok());
+  EXPECT_EQ((*newer)[0].status, MeasuredPoint::Status::kNotMeasurable);
+  EXPECT_NE((*newer)[0].error.find("unknown point status 17"), std::string::npos);
   // A reply whose columns disagree is refused, not read out of bounds.
   s.z._length = 2;
   EXPECT_FALSE(FromSample(s).ok());

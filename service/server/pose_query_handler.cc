@@ -20,7 +20,7 @@ Result<std::unique_ptr<PoseQueryHandler>> PoseQueryHandler::Start(
 }
 
 uint32_t PoseQueryHandler::Parse(const monocle_msgs_srv_dds__GetPose_Request_& request) {
-  return static_cast<uint32_t>(request.which);
+  return wire::EnumValue(request.which);  // any value a client sent, checked by InvalidWhich
 }
 
 std::string PoseQueryHandler::InvalidWhich(uint32_t which) {

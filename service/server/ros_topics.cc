@@ -15,6 +15,11 @@ namespace {
 using wire::RosTime;
 
 char* Chars(const std::string& s) { return const_cast<char*>(s.c_str()); }
+// A sample borrows the characters until it is written: never those of a temporary (a
+// `const char*` turned into a std::string for the call once left the map pose's frame_id
+// pointing at freed stack, found by AddressSanitizer).
+char* Chars(std::string&&) = delete;
+char* Chars(const char* s) { return const_cast<char*>(s); }
 
 template <typename T>
 Result<std::unique_ptr<dds::Endpoint<T>>> OpenWriter(const std::shared_ptr<dds::Entity>& p,
