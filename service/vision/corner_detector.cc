@@ -562,6 +562,21 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
   return found;
 }
 
+// Whether a quarter or more of the pixels within 40 px of `center` are clipped (>= 250 or
+// <= 5): edge points beside such surfaces are not measured (see edge_profile.cc).
+bool SaturatedAround(const cv::Mat& grey, const Eigen::Vector2d& center) {
+  const cv::Rect box =
+      cv::Rect(static_cast<int>(center.x()) - 40, static_cast<int>(center.y()) - 40, 81, 81) &
+      cv::Rect(0, 0, grey.cols, grey.rows);
+  if (box.area() == 0) return false;
+  int clipped = 0;
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const uint8_t* row = grey.ptr<uint8_t>(y);
+    for (int x = box.x; x < box.x + box.width; ++x) clipped += row[x] >= 250 || row[x] <= 5;
+  }
+  return 4 * clipped >= box.area();
+}
+
 // Subpixel edge points at full resolution along each edge of one Y, from just off the corner
 // (where the three edges blur into each other) to the image border.
 template <typename ToFull>
@@ -585,6 +600,11 @@ Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges 
       votes += out.step_grey[m][i] > 0 ? 1 : -1;
     out.polarity[m] = votes >= 0 ? 1 : -1;
     if (out.points_px[m].size() < 10) {
+      if (SaturatedAround(grey, out.corner_px)) {
+        return MakeError(ErrorCode::kNotFound,
+                         "a corner edge cannot be measured: the surfaces around the corner are "
+                         "saturated (white or black clipped); lower the exposure or gain");
+      }
       return MakeError(ErrorCode::kNotFound, "a corner edge has too little contrast to measure (" +
                                                  std::to_string(out.points_px[m].size()) +
                                                  " points with a step of at least " +

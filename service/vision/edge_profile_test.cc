@@ -12,7 +12,7 @@ namespace {
 // vertical, blurred by `blur` px, with Gaussian noise: each pixel integrates the step
 // analytically (erf), so the edge sits at its true subpixel place.
 cv::Mat StepImage(double edge_x, double angle, double step, double blur, double noise,
-                  uint64_t seed) {
+                  uint64_t seed, double dark_grey = 120) {
   cv::Mat image(400, 400, CV_32F);
   const double c = std::cos(angle), s = std::sin(angle);
   for (int v = 0; v < image.rows; ++v) {
@@ -20,7 +20,7 @@ cv::Mat StepImage(double edge_x, double angle, double step, double blur, double 
       const double distance = (u - edge_x) * c - (v - 200) * s;  // signed, along the normal
       const double sigma = std::hypot(blur, 0.3);  // 0.3: a pixel's own extent, roughly
       image.at<float>(v, u) = static_cast<float>(
-          120 + step * 0.5 * (1 + std::erf(distance / (std::sqrt(2.0) * sigma))));
+          dark_grey + step * 0.5 * (1 + std::erf(distance / (std::sqrt(2.0) * sigma))));
     }
   }
   if (noise > 0) {
@@ -42,6 +42,33 @@ TEST(EdgeProfileTest, EstimatesTheNoiseOfAFlatImage) {
   // A constant image: nothing below 8-bit quantization (1/sqrt(12) = 0.29 grey) can be told.
   EXPECT_LT(EstimateNoiseSigma(cv::Mat(100, 100, CV_8UC1, cv::Scalar(50))), 0.3);
   EXPECT_EQ(EstimateNoiseSigma(cv::Mat()), 0);
+}
+
+// A bright wall under a lamp saturates the camera: the blurred step from 225 to 290 grey is
+// cut at 255, and its steepest rise moves ~0.8 px towards the dark side. Such points are not
+// measured at all; the same step below saturation is measured where it is.
+TEST(EdgeProfileTest, RefusesAnEdgeBesideAClippedSurface) {
+  const double edge_x = 200.3;
+  const Eigen::Vector2d down(0, 1);
+  const Eigen::Vector2d start(edge_x + 1, 60);
+  const cv::Mat unclipped = StepImage(edge_x, 0, 65, 1.3, 2, 5, 150);
+  const auto found = MeasureEdgeStretch(unclipped, start, down, 140, 2, 4, 0, 3);
+  ASSERT_GT(found.size(), 120u);
+  double mean_offset = 0;
+  for (const auto& p : found) mean_offset += (p.point_px.x() - edge_x) / found.size();
+  EXPECT_NEAR(mean_offset, 0, 0.05);
+
+  const cv::Mat clipped = StepImage(edge_x, 0, 65, 1.3, 2, 5, 225);
+  EXPECT_TRUE(MeasureEdgeStretch(clipped, start, down, 140, 2, 4, 0, 3).empty());
+  std::vector<Eigen::Vector2d> positions, normals;
+  for (int y = 60; y < 340; y += 2) {
+    positions.emplace_back(edge_x + 1, y);
+    normals.emplace_back(1, 0);
+  }
+  EXPECT_TRUE(MeasureEdgePoints(clipped, positions, normals, 4, 0, 3).empty());
+  // Black clipping likewise: a step from -30 (cut at 0) to 35.
+  const cv::Mat black = StepImage(edge_x, 0, 65, 1.3, 2, 5, -30);
+  EXPECT_TRUE(MeasureEdgeStretch(black, start, down, 140, 2, 4, 0, 3).empty());
 }
 
 TEST(EdgeProfileTest, FindsAFaintEdgeAtItsSubpixelPlace) {
