@@ -19,7 +19,8 @@ double EstimateNoiseSigma(const cv::Mat& grey);
 // grey levels stands out of the noise), its steepest rise within +-half_width_px refined by a
 // parabola. `polarity` +1 or -1: the sign the derivative must have; 0: either, whichever
 // is steeper at that place. A point is kept when the step across it (over +-3 px) is at
-// least `min_step_grey`. Misses are skipped.
+// least `min_step_grey`, and neither side is clipped (averaging >= 250 or <= 5 grey: a
+// saturated surface moves the steepest rise off the edge). Misses are skipped.
 struct EdgePointSample {
   Eigen::Vector2d point_px;
   double step_grey = 0;  // signed along the normal
