@@ -31,7 +31,9 @@ struct RealisticLook {
   double wall_y0_grey = 160;  // the wall y = 0 (holds the X and Z edges)
   // Shading across each surface: relative change per metre along its two in-plane axes
   // (ceiling: x, y; wall x = 0: y, z; wall y = 0: x, z).
-  std::array<Eigen::Vector2d, 3> shading_per_m{};
+  // (Eigen's default constructor leaves a vector uninitialised, hence the explicit zeros.)
+  std::array<Eigen::Vector2d, 3> shading_per_m{Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                                               Eigen::Vector2d::Zero()};
   double vignetting = 0.2;  // fraction darker at the image's corners (cos^4-like falloff)
   Eigen::Vector2d hotspot_px = Eigen::Vector2d(640, 300);  // a broad lamp glare
   double hotspot_radius_px = 350;                          // its Gaussian sigma

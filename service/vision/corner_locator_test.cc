@@ -110,6 +110,35 @@ TEST(CornerLocatorErrorsTest, AWallPaintedLikeTheCeilingLeavesTwoEdgesAndSaysSo)
   EXPECT_NE(m.find("grey levels at noise"), std::string::npos) << m;
 }
 
+TEST(CornerLocatorErrorsTest, AnOverexposedCeilingSaysSoAndLoweringTheExposureFixesIt) {
+  // The ceiling brighter than the sensor's white: it clips at 255, and the blurred step cut
+  // there would move the two ceiling edges by up to a pixel, so their points are refused.
+  // The error must say why and what to do. The same view exposed 30 % lower is located.
+  const auto k = testing::PaperCamera();
+  const CornerPose pose{2.0, 1.5, 1.6, 2.2143, 0.9, 0.1};
+  CornerScene scene;
+  RealisticLook look;
+  look.ceiling_grey = 300;
+  look.wall_x0_grey = 200;
+  look.wall_y0_grey = 185;
+  look.hotspot_gain = 0;
+  look.vignetting = 0;
+  look.noise_sigma = 2;
+  scene.realistic = look;
+  const auto clipped = LocateCorner(RenderCornerScene(k, pose, scene), k, 1.6);
+  ASSERT_FALSE(clipped.ok()) << *clipped;
+  EXPECT_NE(clipped.error().message.find("saturated"), std::string::npos)
+      << clipped.error().message;
+  EXPECT_NE(clipped.error().message.find("lower the exposure"), std::string::npos)
+      << clipped.error().message;
+
+  for (double* grey : {&look.ceiling_grey, &look.wall_x0_grey, &look.wall_y0_grey}) *grey *= 0.7;
+  scene.realistic = look;
+  const auto exposed = LocateCorner(RenderCornerScene(k, pose, scene), k, 1.6);
+  ASSERT_TRUE(exposed.ok()) << exposed.error().message;
+  EXPECT_LT(std::hypot(exposed->pose.x_m - pose.x_m, exposed->pose.y_m - pose.y_m), 0.02);
+}
+
 TEST(CornerLocatorErrorsTest, TinyImageAndMissingDistanceAreClearErrors) {
   CameraIntrinsics k = testing::PaperCamera();
   k.width_px = k.height_px = 32;
