@@ -291,9 +291,10 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
   std::vector<YTriple> found;
   const int n = static_cast<int>(segments.size());
   const double min_angle = 80 * kPi / 180;
-  // The checks below put an end of every segment within ~4.1 junction radii of the corner,
-  // so two segments of one Y have ends within 8.5 radii of each other: pairs that do not are
-  // never looked at again (this prunes the n^3 search to a few triples).
+  // The checks below put an end of every segment within ~4.1 junction radii (or 0.3 of its
+  // length) of the corner, so two segments of one Y have ends within 8.5 radii plus 0.3 of
+  // their lengths of each other: pairs that do not are never looked at again (this prunes
+  // the n^3 search to a few triples).
   std::vector<std::vector<bool>> may_meet(n, std::vector<bool>(n, false));
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
@@ -302,7 +303,9 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
         for (int b = 0; b < 2; ++b)
           closest = std::min(closest, (segments[i].End(a) - segments[j].End(b)).norm());
       may_meet[i][j] = may_meet[j][i] =
-          segments[j].line != segments[i].line && closest <= 8.5 * junction_radius;
+          segments[j].line != segments[i].line &&
+          closest <= 8.5 * junction_radius +
+                         0.3 * (segments[i].t1 - segments[i].t0 + segments[j].t1 - segments[j].t0);
     }
   }
   for (int i = 0; i < n; ++i) {
@@ -351,7 +354,10 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
           }
           const double allowed = collinear_partner ? std::max(1.5 * junction_radius, 0.5 * ahead)
                                                    : std::max(1.5 * junction_radius, 0.15 * length);
-          if (overshoot > allowed || near > 4 * junction_radius) ok = false;
+          // A segment may start up to 0.3 of its length from the corner: light and shading
+          // can make two walls alike just there, so the wall-wall edge appears only further
+          // down (then the floor corner at its other end was taken for the ceiling's).
+          if (overshoot > allowed || near > std::max(4 * junction_radius, 0.3 * length)) ok = false;
           t.direction[m] = forward ? s[m]->direction : Eigen::Vector2d(-s[m]->direction);
           score += s[m]->support;
           const Eigen::Vector2d far = forward ? s[m]->End(1) : s[m]->End(0);
