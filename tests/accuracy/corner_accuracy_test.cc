@@ -136,7 +136,7 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // NOT MET YET: the issue asks p95 <= 1 %. Measured 1.1-1.9 % over all poses and ~1.1 %
+  // NOT MET YET: the issue asks p95 <= 1 %. Measured 1.1-1.5 % over all poses and ~1.1 %
   // over the poses not flagged suspect (views with one short edge are weakly determined; the
   // worst say so with a 1 sigma of 2-6 %). Gated at 2x the worst measured so it cannot slip.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.03);
@@ -154,8 +154,9 @@ TEST(CornerAccuracyTest, RealisticRooms) {
   // Regression gates, ~2.5x above this seed's first run (median 0.14 %, p95 2.6 %, tilt
   // 0.024 / 0.45 deg, pan 0.037 deg, swing 0.019 deg); the median's gate is the goal above.
   // Since edge points beside clipped (saturated) walls are refused: p95 1.9 %, tilt p95
-  // 0.39 deg, 70 of 72 located (two views' edges lie wholly beside clipped walls).
-  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.05);
+  // 0.39 deg, 70 of 72 located (two views' edges lie wholly beside clipped walls). Since a
+  // wall-wall edge may start off the corner: p95 1.5 %, tilt p95 0.37 deg.
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.035);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
   EXPECT_LE(Stats::Percentile(s.pan_deg, 0.5), 0.09);
