@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "service/geometry/undistortion_grid.h"
+
 namespace monocle {
 namespace {
 
@@ -424,17 +426,7 @@ Eigen::Vector2d ToSmall(const Eigen::Vector2d& p, double scale) {
   return ((p.array() + 0.5) * scale - 0.5).matrix();
 }
 
-// Pixel <-> undistorted pixel (the same camera without lens distortion).
-Eigen::Vector2d UndistortPixel(const CameraIntrinsics& k, const Eigen::Vector2d& px,
-                               Eigen::Matrix2d* jacobian) {
-  Eigen::Matrix2d j = Eigen::Matrix2d::Identity();
-  const auto n = PixelToNormalized(k, px, &j);
-  if (!n) return px;
-  const Eigen::Vector2d f(k.fx, k.fy);
-  if (jacobian != nullptr) *jacobian = f.asDiagonal() * j;
-  return {k.fx * n->x() + k.cx, k.fy * n->y() + k.cy};
-}
-
+// Undistorted pixel (the same camera without lens distortion) -> pixel.
 Eigen::Vector2d RedistortPixel(const CameraIntrinsics& k, const Eigen::Vector2d& undistorted_px) {
   return NormalizedToPixel(
       k, Eigen::Vector2d((undistorted_px.x() - k.cx) / k.fx, (undistorted_px.y() - k.cy) / k.fy));
@@ -454,11 +446,13 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
   cv::GaussianBlur(out.small, smooth, cv::Size(7, 7), 1.0, 1.0, cv::BORDER_REPLICATE);
   auto edges = ThinEdges(smooth, options);
   if (k != nullptr && k->HasDistortion()) {
-    // Move every edge pixel (and its gradient) to where an undistorted camera sees it.
+    // Move every edge pixel (and its gradient) to where an undistorted camera sees it,
+    // interpolated from a grid built once per camera (and thread).
+    thread_local std::optional<UndistortionGrid> grid;
+    if (!grid || !grid->IsFor(*k)) grid.emplace(*k);
     for (auto& e : edges) {
-      Eigen::Matrix2d j = Eigen::Matrix2d::Identity();
-      const Eigen::Vector2d u =
-          UndistortPixel(*k, ToFull(Eigen::Vector2d(e.x, e.y), out.scale), &j);
+      Eigen::Matrix2d j;
+      const Eigen::Vector2d u = grid->Undistort(ToFull(Eigen::Vector2d(e.x, e.y), out.scale), &j);
       const Eigen::Vector2d p = ToSmall(u, out.scale);
       const Eigen::Vector2d tangent = (j * Eigen::Vector2d(-e.ny, e.nx)).normalized();
       e.x = static_cast<float>(p.x());

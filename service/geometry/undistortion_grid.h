@@ -1,0 +1,38 @@
+// Pixel -> undistorted pixel, interpolated bilinearly from exact values on a coarse grid.
+// The Hough stage undistorts every edge pixel of a frame (thousands); the exact inverse
+// (Newton's method in PixelToNormalized) on each was a tenth of a detection's time. The
+// grid is for coarse work only (half-resolution voting): subpixel measurements use
+// PixelToNormalized itself.
+// Pure geometry: Eigen only, no I/O.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "service/geometry/camera_model.h"
+
+namespace monocle {
+
+class UndistortionGrid {
+ public:
+  // Exact values every `cell_px` pixels over the image (one cell beyond each border). By
+  // default a hundredth of the focal length: the interpolation error grows with the square
+  // of the cell times the distortion's curvature, which scales with 1 / focal.
+  explicit UndistortionGrid(const CameraIntrinsics& k, double cell_px = 0);
+
+  // Whether the grid was built for exactly these intrinsics.
+  bool IsFor(const CameraIntrinsics& k) const;
+
+  // The pixel where a camera with the same fx, fy, cx, cy and no distortion sees what `px`
+  // sees, and optionally d(undistorted px)/d(px). Where the distortion model has no inverse
+  // nearby, `px` itself and the identity (as UndistortPixel did before).
+  Eigen::Vector2d Undistort(const Eigen::Vector2d& px, Eigen::Matrix2d* jacobian = nullptr) const;
+
+ private:
+  CameraIntrinsics k_;
+  double cell_px_;
+  int nodes_x_, nodes_y_;
+  std::vector<Eigen::Vector2d> undistorted_px_;  // row-major nodes, NaN where not invertible
+};
+
+}  // namespace monocle
