@@ -1,5 +1,7 @@
 #include "service/vision/corner_detector.h"
 
+#include "service/geometry/undistortion_grid.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,8 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <string>
-
-#include "service/geometry/undistortion_grid.h"
+#include <tuple>
 
 namespace monocle {
 namespace {
@@ -40,8 +41,7 @@ struct Segment {
 // Gaussian noise, so its squared magnitude is exponential with median 2 ln 2 sigma_g^2.
 std::vector<EdgePixel> ThinEdges(const cv::Mat& img, const CornerDetectorOptions& options) {
   cv::Mat gx, gy;
-  cv::Sobel(img, gx, CV_16S, 1, 0, 3);
-  cv::Sobel(img, gy, CV_16S, 0, 1, 3);
+  cv::spatialGradient(img, gx, gy);  // 3x3 Sobel in x and y in one pass
   const int w = img.cols, h = img.rows;
   cv::Mat mag(h, w, CV_32S);
   std::vector<int32_t> sample;
@@ -149,31 +149,38 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
     return row[r - 1] + row[r] + row[r + 1];
   };
   std::vector<HoughPeak> peaks;
-  std::vector<size_t> cells;
-  for (size_t cell : candidates) {
-    // H' may peak at the cell or at its rho neighbours.
-    for (int dr = -1; dr <= 1; ++dr) cells.push_back(cell + dr);
-  }
-  std::sort(cells.begin(), cells.end());
-  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-  for (size_t cell : cells) {
-    const int a = static_cast<int>(cell / rho_bins), r = static_cast<int>(cell % rho_bins);
-    if (r < 1 || r >= rho_bins - 1) continue;
-    const int v = smoothed(a, r);
-    if (v < min_votes) continue;
-    bool is_max = true;
-    for (int da = -1; da <= 1 && is_max; ++da) {
-      for (int dr = -1; dr <= 1 && is_max; ++dr) {
-        if (da == 0 && dr == 0) continue;
-        const int n = smoothed(a + da, r + dr);
-        // Ties broken towards the lower index so a plateau yields one peak.
-        if (n > v || (n == v && (da < 0 || (da == 0 && dr < 0)))) is_max = false;
+  for (size_t candidate : candidates) {
+    // H' may peak at the cell or at its rho neighbours. (A cell next to two candidates is
+    // looked at twice: cheaper than sorting the candidates to visit each once.)
+    for (int offset = -1; offset <= 1; ++offset) {
+      const size_t cell = candidate + offset;
+      const int a = static_cast<int>(cell / rho_bins), r = static_cast<int>(cell % rho_bins);
+      if (r < 1 || r >= rho_bins - 1) continue;
+      const int v = smoothed(a, r);
+      if (v < min_votes) continue;
+      bool is_max = true;
+      for (int da = -1; da <= 1 && is_max; ++da) {
+        for (int dr = -1; dr <= 1 && is_max; ++dr) {
+          if (da == 0 && dr == 0) continue;
+          const int n = smoothed(a + da, r + dr);
+          // Ties broken towards the lower index so a plateau yields one peak.
+          if (n > v || (n == v && (da < 0 || (da == 0 && dr < 0)))) is_max = false;
+        }
       }
+      if (is_max) peaks.push_back({a, r - d, v});
     }
-    if (is_max) peaks.push_back({a, r - d, v});
   }
-  std::sort(peaks.begin(), peaks.end(),
-            [](const HoughPeak& x, const HoughPeak& y) { return x.votes > y.votes; });
+  // Most votes first; equal votes in cell order, so the result does not depend on the
+  // order the candidates arose in.
+  std::sort(peaks.begin(), peaks.end(), [](const HoughPeak& x, const HoughPeak& y) {
+    return x.votes != y.votes ? x.votes > y.votes
+                              : std::tie(x.angle_bin, x.rho_bin) < std::tie(y.angle_bin, y.rho_bin);
+  });
+  peaks.erase(std::unique(peaks.begin(), peaks.end(),
+                          [](const HoughPeak& x, const HoughPeak& y) {
+                            return x.angle_bin == y.angle_bin && x.rho_bin == y.rho_bin;
+                          }),
+              peaks.end());
   // Suppress near-duplicates of stronger peaks (within 3 degrees and 6 px).
   std::vector<HoughPeak> kept;
   for (const auto& p : peaks) {

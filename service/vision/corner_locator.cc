@@ -170,8 +170,11 @@ double VisibleLengthPx(const CameraIntrinsics& k, const CornerPose& pose, int ax
                        const Eigen::Vector2d& corner_px) {
   double length = 0;
   const double scale = std::max(CameraPosition(pose).norm(), 0.1);
+  // The axis in the camera frame: c + t * along (the rotation computed once, not per step).
+  const Eigen::Vector3d c = CornerToCamera(pose, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d along = RotationCameraFromCorner(pose).col(axis);
   for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.02) {
-    const Eigen::Vector3d p = CornerToCamera(pose, t * Eigen::Vector3d::Unit(axis));
+    const Eigen::Vector3d p = c + t * along;
     if (p.z() <= 1e-3 * scale) break;
     const Eigen::Vector2d px = NormalizedToPixel(k, p.head<2>() / p.z());
     if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;

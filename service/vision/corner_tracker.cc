@@ -13,9 +13,11 @@ std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const Corn
   const Eigen::Vector2d corner_px = NormalizedToPixel(k, c.head<2>() / c.z());
   Eigen::Vector2d previous = corner_px;
   double travelled = 0, next = 8;  // first sample 8 px off the corner, where edges separate
+  // The axis in the camera frame: c + t * along (the rotation computed once, not per step).
+  const Eigen::Vector3d along = RotationCameraFromCorner(pose).col(axis);
   // 2 % steps: the chord between two projected points is straight to far under a pixel.
   for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.02) {
-    const Eigen::Vector3d p = CornerToCamera(pose, t * Eigen::Vector3d::Unit(axis));
+    const Eigen::Vector3d p = c + t * along;
     if (p.z() <= 1e-3 * scale) break;
     const Eigen::Vector2d px = NormalizedToPixel(k, p.head<2>() / p.z());
     if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;
