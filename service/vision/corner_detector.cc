@@ -24,6 +24,7 @@ struct EdgePixel {
   float x, y;                // half-resolution pixel
   float nx, ny;              // unit gradient
   int vote_half_window = 4;  // Hough angle bins either side of the gradient's direction
+  float angle = 0;           // atan2(ny, nx), radians: set once the gradient is final
 };
 
 // A line x cos(a) + y sin(a) = rho at half resolution, with the supporting span.
@@ -126,7 +127,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   const int candidate_votes = std::max(1, min_votes / 3);
   std::vector<size_t> candidates;
   for (const auto& e : edges) {
-    double alpha = std::atan2(e.ny, e.nx);
+    double alpha = e.angle;
     if (alpha < 0) alpha += kPi;
     const int a0 = static_cast<int>(std::lround(alpha / kPi * kAngleBins));
     // rho + d + 0.5 > 0 always, so truncation rounds (std::lround was a third of the time).
@@ -468,6 +469,7 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
       e.ny = static_cast<float>(-tangent.x());
     }
   }
+  for (auto& e : edges) e.angle = std::atan2(e.ny, e.nx);  // used by the Hough and the buckets
   const double min_length = options.min_edge_length_px * out.scale;
   // Undistorted points may leave the frame a little: size the accumulator for 1.25x. A peak
   // needs 70 % of the shortest edge's pixels (the ends and the junction blur away); the
@@ -478,7 +480,7 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
   // edges within the 20 degrees its support test accepts.
   std::array<std::vector<const EdgePixel*>, 180> buckets;
   for (const auto& e : edges) {
-    double deg = std::atan2(e.ny, e.nx) * 180 / kPi;
+    double deg = e.angle * 180 / kPi;
     if (deg < 0) deg += 180;
     buckets[static_cast<int>(deg) % 180].push_back(&e);
   }
