@@ -8,15 +8,14 @@ namespace monocle {
 
 UndistortionGrid::UndistortionGrid(const CameraIntrinsics& k, double cell_px)
     : k_(k), cell_px_(cell_px > 0 ? cell_px : std::clamp(0.005 * (k.fx + k.fy), 2.0, 32.0)) {
-  cell_px = cell_px_;
   // Nodes at -cell, 0, cell, ... up to one cell past the last pixel.
-  nodes_x_ = static_cast<int>(std::ceil((k.width_px - 1) / cell_px)) + 3;
-  nodes_y_ = static_cast<int>(std::ceil((k.height_px - 1) / cell_px)) + 3;
+  nodes_x_ = static_cast<int>(std::ceil((k.width_px - 1) / cell_px_)) + 3;
+  nodes_y_ = static_cast<int>(std::ceil((k.height_px - 1) / cell_px_)) + 3;
   undistorted_px_.resize(static_cast<size_t>(nodes_x_) * nodes_y_);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int j = 0; j < nodes_y_; ++j) {
     for (int i = 0; i < nodes_x_; ++i) {
-      const Eigen::Vector2d px((i - 1) * cell_px, (j - 1) * cell_px);
+      const Eigen::Vector2d px((i - 1) * cell_px_, (j - 1) * cell_px_);
       const auto n = PixelToNormalized(k, px);
       undistorted_px_[static_cast<size_t>(j) * nodes_x_ + i] =
           n ? Eigen::Vector2d(k.fx * n->x() + k.cx, k.fy * n->y() + k.cy)
@@ -34,10 +33,10 @@ Eigen::Vector2d UndistortionGrid::Undistort(const Eigen::Vector2d& px,
                                             Eigen::Matrix2d* jacobian) const {
   if (jacobian != nullptr) jacobian->setIdentity();
   const double gx = px.x() / cell_px_ + 1, gy = px.y() / cell_px_ + 1;
-  if (!(gx >= 0 && gy >= 0)) return px;  // also NaN
+  // Outside the grid (or NaN): checked before the cast, which would overflow far outside.
+  if (!(gx >= 0 && gy >= 0 && gx <= nodes_x_ - 1 && gy <= nodes_y_ - 1)) return px;
   const int i = std::min(static_cast<int>(gx), nodes_x_ - 2);
   const int j = std::min(static_cast<int>(gy), nodes_y_ - 2);
-  if (gx > nodes_x_ - 1 || gy > nodes_y_ - 1) return px;
   const double fx = gx - i, fy = gy - j;
   const Eigen::Vector2d* row0 = &undistorted_px_[static_cast<size_t>(j) * nodes_x_ + i];
   const Eigen::Vector2d* row1 = row0 + nodes_x_;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "service/geometry/test_scenes.h"
@@ -54,6 +55,13 @@ TEST(UndistortionGridTest, KnowsWhichCameraItWasBuiltFor) {
   // Outside the image (beyond the grid's margin) a pixel is left where it is.
   const Eigen::Vector2d far(-100, 5000);
   EXPECT_EQ(grid.Undistort(far), far);
+  // Far beyond any int, and NaN: left alone too (no overflowing cast).
+  const Eigen::Vector2d huge(1e30, -1e30);
+  EXPECT_EQ(grid.Undistort(huge), huge);
+  Eigen::Matrix2d j;
+  const Eigen::Vector2d nan(std::nan(""), 3);
+  EXPECT_TRUE(std::isnan(grid.Undistort(nan, &j).x()));
+  EXPECT_EQ(j, Eigen::Matrix2d::Identity());
 }
 
 }  // namespace
