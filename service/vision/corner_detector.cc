@@ -599,10 +599,12 @@ Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges 
     out.direction[m] = d;
     out.points_px[m].clear();
     out.step_grey[m].clear();
-    for (const auto& sample : TraceEdge(grey, out.corner_px, d, min_step)) {
+    const auto samples = TraceEdge(grey, out.corner_px, d, min_step);
+    for (const auto& sample : samples) {
       out.points_px[m].push_back(sample.point_px);
       out.step_grey[m].push_back(sample.step_grey);
     }
+    out.blur_sigma_px[m] = EdgeBlurSigmaPx(samples);
     // Polarity: the sign most points near the corner have.
     int votes = 0;
     for (size_t i = 0; i < out.points_px[m].size() && i < 40; ++i)

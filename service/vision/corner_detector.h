@@ -49,8 +49,11 @@ struct CornerEdges {
   std::array<std::vector<Eigen::Vector2d>, 3> points_px;
   std::array<std::vector<double>, 3> step_grey;  // signed step across the edge at each point
   std::array<int, 3> polarity{};  // sign of the intensity derivative along the left normal
-  double noise_sigma_grey = 0;    // EstimateNoiseSigma of the image
-  double sample_spacing_px = 2;   // distance between neighbouring edge points along an edge
+  // Each edge's blur, pixels (EdgeBlurSigmaPx of its points; 0: not measured): the locator
+  // measures a blurred edge with a wider derivative filter.
+  std::array<double, 3> blur_sigma_px{};
+  double noise_sigma_grey = 0;   // EstimateNoiseSigma of the image
+  double sample_spacing_px = 2;  // distance between neighbouring edge points along an edge
   std::vector<HoughSegment> hough_segments;  // every segment seen, for overlays
 };
 

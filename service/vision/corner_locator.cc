@@ -117,6 +117,8 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
     normals.emplace_back(-along.y(), along.x());
   }
   // Either sign, decided per 32 px stretch: the contrast may fade and turn along an edge.
+  // A blurred edge is measured with the derivative filter matched to its blur.
+  const double derivative_sigma_px = MatchedDerivativeSigmaPx(edges->blur_sigma_px[m]);
   std::vector<EdgePointSample> second;
   for (size_t begin = 0; begin < positions.size(); begin += 16) {
     const size_t end = std::min(positions.size(), begin + 16);
@@ -126,8 +128,8 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
                                       ? chord.normalized()
                                       : Eigen::Vector2d(normals[begin].y(), -normals[begin].x());
     const int count = std::max(1, static_cast<int>(std::lround(chord.norm() / 2)) + 1);
-    const auto chunk =
-        MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, 2, 2.5, 0, min_step));
+    const auto chunk = MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, 2, 2.5,
+                                                       0, min_step, derivative_sigma_px));
     second.insert(second.end(), chunk.begin(), chunk.end());
   }
   if (second.size() >= 10) {
@@ -369,6 +371,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     ordered.points_px[axis] = std::move(edges.points_px[m]);
     ordered.step_grey[axis] = std::move(edges.step_grey[m]);
     ordered.polarity[axis] = edges.polarity[m];
+    ordered.blur_sigma_px[axis] = edges.blur_sigma_px[m];
   }
   out.edges = std::move(ordered);
   return out;

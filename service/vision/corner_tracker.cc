@@ -63,6 +63,7 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
     const auto positions = PredictEdgePx(k, *last_pose_, axis, options_.spacing_px);
     if (positions.size() < 10) return MakeError(ErrorCode::kNotFound, "an edge left the view");
     edges.direction[axis] = (positions[1] - positions[0]).normalized();
+    std::vector<EdgePointSample> samples;
     for (size_t begin = 0; begin < positions.size(); begin += 16) {
       const size_t end = std::min(positions.size(), begin + 16);
       // A 48 px stretch of the lens-bent edge is straight to well under 0.1 px.
@@ -70,13 +71,16 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
       const Eigen::Vector2d along = chord.norm() > 0 ? chord.normalized() : edges.direction[axis];
       const int spacing = options_.spacing_px;
       const int count = static_cast<int>(std::lround(chord.norm() / spacing)) + 1;
-      for (const auto& sample :
-           MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, spacing,
-                                           options_.search_half_width_px, 0, min_step))) {
-        edges.points_px[axis].push_back(sample.point_px);
-        edges.step_grey[axis].push_back(sample.step_grey);
-      }
+      const auto chunk =
+          MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, spacing,
+                                          options_.search_half_width_px, 0, min_step));
+      samples.insert(samples.end(), chunk.begin(), chunk.end());
     }
+    for (const auto& sample : samples) {
+      edges.points_px[axis].push_back(sample.point_px);
+      edges.step_grey[axis].push_back(sample.step_grey);
+    }
+    edges.blur_sigma_px[axis] = EdgeBlurSigmaPx(samples);
     const double coverage =
         static_cast<double>(edges.points_px[axis].size()) / static_cast<double>(positions.size());
     if (edges.points_px[axis].size() < 10 || coverage < options_.min_coverage)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -68,18 +69,42 @@ constexpr int kStep = 3;   // the step is measured between +-3 px of the edge
 // pixels are saturated. (254 kept points beside partly clipped walls, still biased.)
 constexpr float kClippedWhite = 250.0f, kClippedBlack = 5.0f;
 
+// The derivative filter across the edge: the central difference smoothed by [1 2 1] / 4
+// (sigma 0), or a derivative of a Gaussian (taps j exp(-j^2 / 2 sigma^2), scaled so a ramp of
+// slope 1 gives 1). Odd-symmetric, so it does not move a symmetric edge.
+struct DerivativeKernel {
+  std::vector<float> taps;
+  explicit DerivativeKernel(double sigma_px) {
+    if (!(sigma_px > 0)) {
+      taps = {-0.125f, -0.25f, 0.0f, 0.25f, 0.125f};
+      return;
+    }
+    const int reach = static_cast<int>(std::ceil(2.5 * sigma_px));
+    double ramp_response = 0;
+    std::vector<double> w;
+    for (int j = -reach; j <= reach; ++j) {
+      w.push_back(j * std::exp(-0.5 * j * j / (sigma_px * sigma_px)));
+      ramp_response += w.back() * j;
+    }
+    for (double v : w) taps.push_back(static_cast<float>(v / ramp_response));
+  }
+  int Reach() const { return static_cast<int>(taps.size() / 2); }
+};
+
 // The edge in one profile across it: profile[o] is the image at offset o - r along the
 // normal. Its steepest rise within +-search (of the polarity asked, or either with 0),
 // refined by a parabola, if the step across it is at least min_step.
-std::optional<EdgePointSample> PeakOfProfile(const float* profile, int r, int search,
-                                             double half_width_px, int polarity,
+std::optional<EdgePointSample> PeakOfProfile(const DerivativeKernel& kernel, const float* profile,
+                                             int r, int search, double half_width_px, int polarity,
                                              double min_step_grey, const Eigen::Vector2d& p,
                                              const Eigen::Vector2d& n) {
   std::array<float, 128> deriv{};
   if (2 * r + 1 > static_cast<int>(deriv.size())) return std::nullopt;
+  const int reach = kernel.Reach();
   for (int o = r - search - 1; o <= r + search + 1; ++o) {
-    // Derivative smoothed by [1 2 1] / 4 over the central differences.
-    deriv[o] = 0.125f * (profile[o + 2] + 2 * profile[o + 1] - 2 * profile[o - 1] - profile[o - 2]);
+    float sum = 0;
+    for (int j = -reach; j <= reach; ++j) sum += kernel.taps[j + reach] * profile[o + j];
+    deriv[o] = sum;
   }
   // Polarity 0: whichever sign is steeper here.
   float sign = static_cast<float>(polarity);
@@ -113,7 +138,7 @@ std::optional<EdgePointSample> PeakOfProfile(const float* profile, int r, int se
   const double denom = left - 2 * mid + right;
   const double offset = denom < 0 ? 0.5 * (left - right) / denom : 0.0;
   if (std::abs(best - r + offset) > half_width_px) return std::nullopt;
-  return EdgePointSample{p + (best - r + offset) * n, step};
+  return EdgePointSample{p + (best - r + offset) * n, step, best_value};
 }
 
 }  // namespace
@@ -122,10 +147,12 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
                                                const std::vector<Eigen::Vector2d>& positions,
                                                const std::vector<Eigen::Vector2d>& normals,
                                                double half_width_px, int polarity,
-                                               double min_step_grey) {
+                                               double min_step_grey, double derivative_sigma_px) {
   std::vector<EdgePointSample> out;
   const int search = static_cast<int>(std::ceil(half_width_px));
-  const int r = search + kStep + 2;
+  const DerivativeKernel kernel(derivative_sigma_px);
+  // The profile reaches past the search window by the step's and the filter's reach.
+  const int r = search + std::max(kStep, kernel.Reach()) + 2;
   const double reach = std::hypot(r, kAlong) + 2;
   std::vector<float> profile(2 * r + 1);
   for (size_t i = 0; i < positions.size(); ++i) {
@@ -144,7 +171,7 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
       }
       profile[o + r] = sum / (2 * kAlong + 1);
     }
-    if (auto found = PeakOfProfile(profile.data(), r, search, half_width_px, polarity,
+    if (auto found = PeakOfProfile(kernel, profile.data(), r, search, half_width_px, polarity,
                                    min_step_grey, p, n)) {
       out.push_back(*found);
     }
@@ -155,11 +182,13 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
 std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
                                                 const Eigen::Vector2d& direction, int count,
                                                 int spacing_px, double half_width_px, int polarity,
-                                                double min_step_grey) {
+                                                double min_step_grey, double derivative_sigma_px) {
   std::vector<EdgePointSample> out;
   if (count <= 0 || spacing_px <= 0) return out;
   const int search = static_cast<int>(std::ceil(half_width_px));
-  const int r = search + kStep + 2;
+  const DerivativeKernel kernel(derivative_sigma_px);
+  // The profile reaches past the search window by the step's and the filter's reach.
+  const int r = search + std::max(kStep, kernel.Reach()) + 2;
   const double reach = std::hypot(r, kAlong) + 2;
   const Eigen::Vector2d d = direction.normalized();
   const Eigen::Vector2d n(-d.y(), d.x());
@@ -204,12 +233,40 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
       const double* row1 = sums.ptr<double>(o + 1);
       profile[o] = static_cast<float>(scale * ((row1[c1] - row1[c0]) - (row0[c1] - row0[c0])));
     }
-    if (auto found = PeakOfProfile(profile.data(), r, search, half_width_px, polarity,
+    if (auto found = PeakOfProfile(kernel, profile.data(), r, search, half_width_px, polarity,
                                    min_step_grey, p, n)) {
       out.push_back(*found);
     }
   }
   return out;
+}
+
+double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples) {
+  std::vector<double> ratios;  // step / (slope sqrt(2 pi)): sigma erf(kStep / (sigma sqrt 2))
+  for (const auto& s : samples) {
+    if (s.slope_grey_per_px > 0)
+      ratios.push_back(std::abs(s.step_grey) /
+                       (s.slope_grey_per_px * std::sqrt(2 * std::numbers::pi)));
+  }
+  if (ratios.empty()) return 0;
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  const double ratio = ratios[ratios.size() / 2];
+  // The step is taken over +-kStep px, so the ratio saturates at kStep sqrt(2 / pi) for wide
+  // edges: solve sigma erf(kStep / (sigma sqrt 2)) = ratio by bisection on [0, 6] px.
+  double lo = 0, hi = 6;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (mid * std::erf(kStep / (mid * std::sqrt(2.0))) < ratio ? lo : hi) = mid;
+  }
+  // The sampler's own width: central difference (variance 1/3) smoothed by [1 2 1] / 4
+  // (variance 1/2), and bilinear interpolation (variance f (1 - f) at phase f: 1/6 on average).
+  constexpr double kFilterVariance = 1.0 / 3 + 0.5 + 1.0 / 6;
+  return std::sqrt(std::max(0.0, lo * lo - kFilterVariance));
+}
+
+double MatchedDerivativeSigmaPx(double blur_sigma_px) {
+  // Up to a blur of 1 px the default filter (itself ~0.9 px wide) is as good.
+  return blur_sigma_px > 1.0 ? blur_sigma_px : 0.0;
 }
 
 std::vector<EdgePointSample> MajoritySign(std::vector<EdgePointSample> samples) {

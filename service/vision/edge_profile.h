@@ -21,15 +21,21 @@ double EstimateNoiseSigma(const cv::Mat& grey);
 // is steeper at that place. A point is kept when the step across it (over +-3 px) is at
 // least `min_step_grey`, and neither side is clipped (averaging >= 250 or <= 5 grey: a
 // saturated surface moves the steepest rise off the edge). Misses are skipped.
+//
+// `derivative_sigma_px` 0: the derivative is the central difference smoothed by [1 2 1] / 4,
+// right for sharp edges; > 0: a derivative of a Gaussian of that sigma, the matched filter
+// for a blurred edge (see EdgeBlurSigmaPx).
 struct EdgePointSample {
   Eigen::Vector2d point_px;
-  double step_grey = 0;  // signed along the normal
+  double step_grey = 0;          // signed along the normal
+  double slope_grey_per_px = 0;  // the derivative's peak (magnitude), as filtered
 };
 std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
                                                const std::vector<Eigen::Vector2d>& positions_px,
                                                const std::vector<Eigen::Vector2d>& normals,
                                                double half_width_px, int polarity,
-                                               double min_step_grey);
+                                               double min_step_grey,
+                                               double derivative_sigma_px = 0);
 
 // The same along a straight stretch: `count` positions from `start`, `spacing_px` apart
 // along `direction` (unit), normals its left normal (-d.y, d.x). Sampled from one rotated
@@ -37,7 +43,19 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
 std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
                                                 const Eigen::Vector2d& direction, int count,
                                                 int spacing_px, double half_width_px, int polarity,
-                                                double min_step_grey);
+                                                double min_step_grey,
+                                                double derivative_sigma_px = 0);
+
+// The blur of an edge, pixels (the sigma of a Gaussian-blurred step), from samples measured
+// with the default filter: a step S blurred by sigma rises at most S / (sigma sqrt(2 pi)).
+// The median over the samples; 0 when there are none.
+double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples);
+
+// The derivative filter's sigma for measuring an edge of this blur (pixels): 0 (the default
+// filter) for an edge blurred by 1 px or less, else the blur itself: the matched filter for
+// a blurred step in noise. (1.5x the blur did better on the corner renders but worse on the
+// room drive, README "Corner pose".)
+double MatchedDerivativeSigmaPx(double blur_sigma_px);
 
 // One short stretch of an edge (a chunk of neighbouring samples): keeps the points whose
 // step has the sign most of them have, none if fewer than 3 agree. Along one edge the
