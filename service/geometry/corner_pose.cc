@@ -429,6 +429,22 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
   out.pose = Canonical(CornerPose{q[0], q[1], zc, q[2], q[3], q[4]});
   const Eigen::Matrix<double, 5, 5> jtj_inverse = lu.inverse();
   out.covariance = point_sigma_px * point_sigma_px * jtj_inverse;
+  // Residual pair k has variance point_sigma_px^2 when line k's points scatter as its weight
+  // assumes (point_sigma_px times its relative sigma); scaled by how they actually scatter.
+  Eigen::Matrix<double, 6, 1> residual_variance;
+  bool measured_scatter = false;
+  for (int k = 0; k < 3; ++k) {
+    const double assumed =
+        point_sigma_px *
+        (lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0);
+    const double actual = lines[k].scatter_sigma_px > 0 ? lines[k].scatter_sigma_px : assumed;
+    measured_scatter |= lines[k].scatter_sigma_px > 0;
+    residual_variance.segment<2>(2 * k).setConstant(std::pow(point_sigma_px * actual / assumed, 2));
+  }
+  const Eigen::Matrix<double, 5, 6> gain = jtj_inverse * summary.jacobian.transpose();
+  if (measured_scatter) {
+    out.covariance = gain * residual_variance.asDiagonal() * gain.transpose();
+  }
   if (line_bias_px > 0) {
     // Residual k's scale: weight_k * (offset in normalized units); a line offset by b pixels
     // moves both of its residuals by weight_k * b / focal, fully correlated.
@@ -441,7 +457,6 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
       const double weight = std::sqrt(std::max(n, 1.0) / 2.0) / sigma;  // focal cancels
       bias.block<2, 2>(2 * k, 2 * k).setConstant(std::pow(weight * line_bias_px, 2));
     }
-    const Eigen::Matrix<double, 5, 6> gain = jtj_inverse * summary.jacobian.transpose();
     out.covariance += gain * bias * gain.transpose();
   }
   int total = 0;

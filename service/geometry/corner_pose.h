@@ -99,6 +99,11 @@ struct LineObservation {
   // 0: the common point_sigma_px of RefineCornerPose, and num_points.
   double point_sigma_px = 0;
   double independent_points = 0;
+  // Optional, for the covariance only: the scatter of this line's points as measured (pixels).
+  // The fit keeps the weights above; the covariance then propagates each line's own noise
+  // through them (a sandwich), so a short, faint edge among two strong ones is not credited
+  // with their precision. 0: the noise the weights assume.
+  double scatter_sigma_px = 0;
 };
 
 struct CornerRefinement {

@@ -17,6 +17,8 @@ constexpr double kProfileWindowPx = 7.0;
 // way along the whole edge. Chosen on the realistic development renders (seeds 7 and 8) so
 // the reported 1 sigma covers ~68 % of the errors; the accuracy test checks it on others.
 constexpr double kLineBiasPx = 0.1;
+// No edge point is measured better than this (1 sigma, pixels), whatever its scatter says.
+constexpr double kMinPointSigmaPx = 0.05;
 
 struct LineFit {
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero(), direction = Eigen::Vector2d::UnitX();
@@ -331,6 +333,8 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     // the pooled one made the median error 40 % worse on the realistic development set.)
     obs.independent_points =
         std::max(2.0, obs.num_points * std::min(1.0, spacing_px[m] / kProfileWindowPx));
+    // Its own scatter sets its share of the covariance (not its weight, above).
+    obs.scatter_sigma_px = std::max(fits[m].normal_rms * focal, kMinPointSigmaPx);
     point_sigma2 += std::pow(fits[m].normal_rms * focal, 2) * obs.num_points;
     total_points += obs.num_points;
   }
@@ -348,7 +352,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     axis_of_line = closed->axis_of_ray;
   }
   const auto refined = RefineCornerPose(initial, observations, axis_of_line, focal,
-                                        std::max(point_sigma_px, 0.05), kLineBiasPx);
+                                        std::max(point_sigma_px, kMinPointSigmaPx), kLineBiasPx);
   if (!refined) return refined.error();
 
   CornerLocation out;

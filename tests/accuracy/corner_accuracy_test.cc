@@ -41,7 +41,9 @@ struct Stats {
     std::cout << std::setprecision(3) << name << ": pose for " << located << "/" << images
               << " images (" << suspect << " flagged suspect); horizontal error median "
               << 100 * Percentile(horizontal_rel, 0.5) << " %, p95 "
-              << 100 * Percentile(horizontal_rel, 0.95) << " % of the distance; tilt median "
+              << 100 * Percentile(horizontal_rel, 0.95)
+              << " % of the distance (p95 of the poses not "
+              << "flagged " << 100 * Percentile(horizontal_rel_trusted, 0.95) << " %); tilt median "
               << Percentile(tilt_deg, 0.5) << " deg, p95 " << Percentile(tilt_deg, 0.95)
               << " deg; pan median " << Percentile(pan_deg, 0.5) << " p95 "
               << Percentile(pan_deg, 0.95) << " deg; swing median " << Percentile(swing_deg, 0.5)
@@ -136,10 +138,11 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // NOT MET YET: the issue asks p95 <= 1 %. Measured 1.1-1.5 % over all poses and ~1.1 %
-  // over the poses not flagged suspect (views with one short edge are weakly determined; the
-  // worst say so with a 1 sigma of 2-6 %). Gated at 2x the worst measured so it cannot slip.
-  EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.03);
+  // NOT MET YET: the issue asks p95 <= 1 %. Measured 0.76-1.36 % over all poses and
+  // 0.72-0.94 % over the poses not flagged suspect (views with one short edge are weakly
+  // determined; the worst say so with a 1 sigma of 2-6 %). Gated at ~2x the worst measured so
+  // it cannot slip.
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.02);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
   // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors.
