@@ -459,6 +459,8 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
     }
     out.covariance += gain * bias * gain.transpose();
   }
+  // G D G^T is symmetric up to rounding, which differs between its two triangles.
+  out.covariance = (0.5 * (out.covariance + out.covariance.transpose())).eval();
   int total = 0;
   for (const auto& l : lines) total += std::max(l.num_points, 1);
   // RMS of the unweighted line residuals (the weights above only shape the covariance).

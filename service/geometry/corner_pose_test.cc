@@ -223,6 +223,8 @@ TEST(CornerPoseTest, CovarianceFollowsEachLinesOwnScatter) {
       ASSERT_TRUE(own.ok() && pooled.ok());
       // The same fit either way: only the covariance differs.
       EXPECT_NEAR(own->pose.x_m, pooled->pose.x_m, 1e-12);
+      // Exactly symmetric, as published (G D G^T rounds its two triangles differently).
+      ASSERT_TRUE(own->covariance == own->covariance.transpose()) << own->covariance;
       const Eigen::Vector2d error(own->pose.x_m - pose->x_m, own->pose.y_m - pose->y_m);
       for (int i = 0; i < 2; ++i) {
         covered_own += std::abs(error[i]) < std::sqrt(own->covariance(i, i));

@@ -45,5 +45,22 @@ TEST(PoseCovarianceTest, RotationPartMatchesSampledRotations) {
   EXPECT_GT((rotation - angles).norm(), 0.1 * angles.norm());
 }
 
+// ROS consumers read the 36 numbers as published: the matrix must be exactly symmetric,
+// not only to rounding (J C J^T rounds its two triangles differently).
+TEST(PoseCovarianceTest, IsExactlySymmetric) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 50; ++trial) {
+    const CornerPose pose{2.0 + u(rng), 1.5 + u(rng),       1.6,
+                          2.2 + u(rng), 0.9 + 0.3 * u(rng), 0.2 * u(rng)};
+    Eigen::Matrix<double, 5, 5> a;
+    for (int i = 0; i < 25; ++i) a(i / 5, i % 5) = 1e-3 * u(rng);
+    const Eigen::Matrix<double, 5, 5> c = a * a.transpose();  // a covariance, full rank
+    const Eigen::Matrix<double, 6, 6> ros = RosPoseCovariance(pose, c);
+    for (int r = 0; r < 6; ++r)
+      for (int k = 0; k < r; ++k) ASSERT_EQ(ros(r, k), ros(k, r)) << trial << ": " << r << k;
+  }
+}
+
 }  // namespace
 }  // namespace monocle
