@@ -169,7 +169,9 @@ MapPoseCandidate PoseInMapFromCorner(const MapCorner& corner, const RigidTransfo
     jacobian.col(k) << (a.x_m - b.x_m) / (2 * step), (a.y_m - b.y_m) / (2 * step),
         WrapAngle(a.heading_rad - b.heading_rad) / (2 * step);
   }
-  c.base_covariance = jacobian * covariance * jacobian.transpose();
+  const Eigen::Matrix3d base_covariance = jacobian * covariance * jacobian.transpose();
+  // Exactly symmetric, as published on ROS and the wire (J C J^T rounds its triangles apart).
+  c.base_covariance = 0.5 * (base_covariance + base_covariance.transpose());
   return c;
 }
 

@@ -395,6 +395,9 @@ TEST(MapPoseTest, TheBaseCovarianceMatchesSampledCornerPoses) {
   }
   Eigen::Matrix3d sampled = Eigen::Matrix3d::Zero();
   for (const auto& v : values) sampled += (v - mean) * (v - mean).transpose() / (samples - 1);
+  EXPECT_TRUE(predicted.base_covariance == predicted.base_covariance.transpose())
+      << "exactly symmetric, as published\n"
+      << predicted.base_covariance;
   for (int r = 0; r < 3; ++r) {
     EXPECT_NEAR(std::sqrt(sampled(r, r)), std::sqrt(predicted.base_covariance(r, r)),
                 0.05 * std::sqrt(predicted.base_covariance(r, r)))
