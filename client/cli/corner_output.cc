@@ -158,6 +158,7 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
   out.set_suspect(r->suspect);
   if (r->suspect) out.set_suspect_reason(r->suspect_reason);
   out.set_noise_grey(r->noise_sigma_grey);
+  if (r->edges.detection_scale > 0) out.set_detection_scale(r->edges.detection_scale);
   return out;
 }
 

@@ -431,19 +431,28 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
   out.covariance = point_sigma_px * point_sigma_px * jtj_inverse;
   // Residual pair k has variance point_sigma_px^2 when line k's points scatter as its weight
   // assumes (point_sigma_px times its relative sigma); scaled by how they actually scatter.
-  Eigen::Matrix<double, 6, 1> residual_variance;
+  // Residual pair k: the two ends (centroid -+ spread) of line k. Their half sum is the
+  // line's offset, their half difference its direction times the spread; independent ends
+  // give both half the variance. A direction less certain than that (direction_sigma_scale)
+  // adds to the difference only.
+  Eigen::Matrix<double, 6, 6> residual_covariance = Eigen::Matrix<double, 6, 6>::Zero();
   bool measured_scatter = false;
   for (int k = 0; k < 3; ++k) {
     const double assumed =
         point_sigma_px *
         (lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0);
     const double actual = lines[k].scatter_sigma_px > 0 ? lines[k].scatter_sigma_px : assumed;
-    measured_scatter |= lines[k].scatter_sigma_px > 0;
-    residual_variance.segment<2>(2 * k).setConstant(std::pow(point_sigma_px * actual / assumed, 2));
+    const double direction_scale = std::max(lines[k].direction_sigma_scale, 1.0);
+    measured_scatter |= lines[k].scatter_sigma_px > 0 || direction_scale > 1;
+    const double end_variance = std::pow(point_sigma_px * actual / assumed, 2);
+    const double offset_part = 0.5 * end_variance;
+    const double direction_part = 0.5 * end_variance * direction_scale * direction_scale;
+    residual_covariance.block<2, 2>(2 * k, 2 * k) << offset_part + direction_part,
+        offset_part - direction_part, offset_part - direction_part, offset_part + direction_part;
   }
   const Eigen::Matrix<double, 5, 6> gain = jtj_inverse * summary.jacobian.transpose();
   if (measured_scatter) {
-    out.covariance = gain * residual_variance.asDiagonal() * gain.transpose();
+    out.covariance = gain * residual_covariance * gain.transpose();
   }
   if (line_bias_px > 0) {
     // Residual k's scale: weight_k * (offset in normalized units); a line offset by b pixels

@@ -104,6 +104,11 @@ struct LineObservation {
   // through them (a sandwich), so a short, faint edge among two strong ones is not credited
   // with their precision. 0: the noise the weights assume.
   double scatter_sigma_px = 0;
+  // Optional, for the covariance only: how much less certain the line's direction is than
+  // its points' spread says (>= 1; its offset keeps the scatter above). Points that lean
+  // towards where the search started rather than the edge (a faded stretch) are kept in the
+  // fit but must not narrow the direction.
+  double direction_sigma_scale = 1;
 };
 
 struct CornerRefinement {

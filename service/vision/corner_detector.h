@@ -2,8 +2,9 @@
 // (Sobel edges, thinning, Hough transform with smoothed counts H', the Y checks, least
 // squares fits, constrained refit), made subpixel and robust to clutter.
 //
-// Detection runs at half resolution; edge points are then measured at full resolution,
-// to subpixel precision, along each detected edge.
+// Detection runs at a quarter of the resolution, then at half when no Y found there is
+// accepted; edge points are then measured at full resolution, to subpixel precision, along
+// each detected edge.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,6 +34,9 @@ struct CornerDetectorOptions {
   // and at least `min_step_grey`.
   double min_step_snr = 1.0;
   double min_step_grey = 1.5;
+  // Look for the Y at a quarter of the resolution first (images >= 800 px on each side),
+  // then at half when nothing found there is accepted. False: half only.
+  bool quarter_resolution_first = true;
 };
 
 // One image line found by the Hough stage (half resolution is hidden from callers).
@@ -54,6 +58,10 @@ struct CornerEdges {
   std::array<double, 3> blur_sigma_px{};
   double noise_sigma_grey = 0;   // EstimateNoiseSigma of the image
   double sample_spacing_px = 2;  // distance between neighbouring edge points along an edge
+  // The resolution the Y was found at, relative to the image: 0.25 (a quarter, tried first
+  // on images at least 800 px on each side), 0.5, or 1 (small images). Edge points are
+  // always measured at full resolution. 0: not detected (the tracker predicted the edges).
+  double detection_scale = 0;
   std::vector<HoughSegment> hough_segments;  // every segment seen, for overlays
 };
 

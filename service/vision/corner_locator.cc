@@ -27,6 +27,31 @@ struct LineFit {
   double normal_rms = 0;                 // normalized units
 };
 
+// How much less a line's points tell about its direction when only those that follow each
+// other from the corner count (no gap over max_gap_px): the ratio of sqrt(n) * spread of
+// all points to that of the contiguous ones (>= 1; 1 without a gap). Beyond a gap the edge has
+// faded below the noise; what the second pass finds there is the steepest noise in its window
+// around the first pass's line, so those points lean towards that line's error and have the most
+// leverage on the direction. They stay in the fit (on a well-seen edge they are the edge),
+// but not in its precision.
+double BeyondGapLeverage(const LineFit& fit, const Eigen::Vector2d& corner, double focal,
+                         double max_gap_px) {
+  std::vector<double> along;
+  for (const auto& p : fit.inliers) along.push_back(fit.direction.dot(p - corner) * focal);
+  std::sort(along.begin(), along.end());
+  size_t contiguous = along.empty() ? 0 : 1;
+  while (contiguous < along.size() && along[contiguous] - along[contiguous - 1] <= max_gap_px)
+    ++contiguous;
+  auto information = [&](size_t n) {
+    double mean = 0, spread2 = 0;
+    for (size_t i = 0; i < n; ++i) mean += along[i] / n;
+    for (size_t i = 0; i < n; ++i) spread2 += (along[i] - mean) * (along[i] - mean);
+    return std::sqrt(spread2);  // sqrt(n) * spread
+  };
+  if (contiguous < 5 || contiguous == along.size()) return 1;
+  return std::max(1.0, information(along.size()) / std::max(information(contiguous), 1e-9));
+}
+
 // Total least squares (the paper's eq. 17) with iterative rejection of points further than
 // 3 robust sigmas: clutter crossing the edge, or the edge ending.
 std::optional<LineFit> RobustLineFit(std::vector<Eigen::Vector2d> pts, std::vector<double> steps,
@@ -68,6 +93,9 @@ std::optional<LineFit> RobustLineFit(std::vector<Eigen::Vector2d> pts, std::vect
   fit.inlier_steps = std::move(steps);
   return fit;
 }
+
+// An edge runs from the corner as far as its points follow each other, gaps up to this.
+double MaxGapPx(double spacing_px) { return std::max(40.0, 8 * spacing_px); }
 
 std::optional<Eigen::Vector2d> IntersectLines(const LineFit& a, const LineFit& b) {
   Eigen::Matrix2d m;
@@ -221,7 +249,7 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
     for (const auto& p : fit.inliers) by_distance.push_back({(p - corner_n).norm() * focal, p});
     std::sort(by_distance.begin(), by_distance.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
-    const double max_gap_px = std::max(40.0, 8 * spacing_px[m]);
+    const double max_gap_px = MaxGapPx(spacing_px[m]);
     Eigen::Vector2d far = by_distance.front().second;
     for (size_t i = 1; i < by_distance.size(); ++i) {
       if (by_distance[i].first - by_distance[i - 1].first > max_gap_px) break;
@@ -333,8 +361,10 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     // the pooled one made the median error 40 % worse on the realistic development set.)
     obs.independent_points =
         std::max(2.0, obs.num_points * std::min(1.0, spacing_px[m] / kProfileWindowPx));
-    // Its own scatter sets its share of the covariance (not its weight, above).
+    // Its own scatter sets its share of the covariance (not its weight, above); its direction
+    // is only as certain as the points that follow each other from the corner make it.
     obs.scatter_sigma_px = std::max(fits[m].normal_rms * focal, kMinPointSigmaPx);
+    obs.direction_sigma_scale = BeyondGapLeverage(fits[m], *corner, focal, MaxGapPx(spacing_px[m]));
     point_sigma2 += std::pow(fits[m].normal_rms * focal, 2) * obs.num_points;
     total_points += obs.num_points;
   }
@@ -398,20 +428,34 @@ Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics&
   }
   // The best supported Y first; one the pose rejects (not a corner seen from inside a room)
   // gives way to the next.
-  std::optional<CornerLocation> located;
-  std::optional<Error> pose_error;
-  const auto detect_error = ForEachCornerCandidate(grey, options, &k, [&](CornerEdges edges) {
-    auto r = LocateCornerFromEdges(grey, k, zc, std::move(edges), options, quality);
-    if (r) {
-      located = std::move(*r);
-      return true;
-    }
-    if (!pose_error) pose_error = r.error();
-    return false;
-  });
-  if (located) return std::move(*located);
-  if (pose_error) return *pose_error;
-  return *detect_error;
+  auto locate = [&](const CornerDetectorOptions& detector) -> Result<CornerLocation> {
+    std::optional<CornerLocation> located;
+    std::optional<Error> pose_error;
+    const auto detect_error = ForEachCornerCandidate(grey, detector, &k, [&](CornerEdges edges) {
+      auto r = LocateCornerFromEdges(grey, k, zc, std::move(edges), detector, quality);
+      if (r) {
+        located = std::move(*r);
+        return true;
+      }
+      if (!pose_error) pose_error = r.error();
+      return false;
+    });
+    if (located) return std::move(*located);
+    if (pose_error) return *pose_error;
+    return *detect_error;
+  };
+  auto first = locate(options);
+  // The quarter-resolution search decides only with a pose it does not flag: a suspect one
+  // may be a wrong Y the coarse image favoured (clutter beside a faint edge, a floor
+  // corner), and a map would take it as its next prior. Then the half-resolution search
+  // decides, whatever it finds, as it did alone.
+  if (first && first->suspect && first->edges.detection_scale < 0.5 &&
+      options.quarter_resolution_first) {
+    CornerDetectorOptions half = options;
+    half.quarter_resolution_first = false;
+    return locate(half);
+  }
+  return first;
 }
 
 }  // namespace monocle

@@ -177,3 +177,74 @@ TEST(CornerLocatorErrorsTest, TinyImageAndMissingDistanceAreClearErrors) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// Detection looks at a quarter of the resolution first and at half only when no Y found
+// there is accepted: most views cost the quarter pass alone, none is lost to it.
+TEST(CornerDetectionScaleTest, AQuarterFirstThenHalfWhenNothingThereIsAccepted) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  const CornerPose pose{2.0, 1.5, 1.6, std::atan2(2.0, -1.5), 0.9, 0.1};
+  CornerScene scene;
+  scene.noise_sigma = 2;
+  const cv::Mat image = RenderCornerScene(k, pose, scene);
+  ASSERT_EQ(image.cols, 1280);
+
+  const auto located = LocateCorner(image, k, pose.z_m);
+  ASSERT_TRUE(located.ok()) << located.error();
+  EXPECT_EQ(located->edges.detection_scale, 0.25) << "a plain view is found at a quarter";
+
+  // Every Y offered at a quarter refused: the same image is searched again at half, and its
+  // Y is the same corner.
+  std::vector<double> offered_scales;
+  std::optional<CornerEdges> at_half;
+  const auto error = ForEachCornerCandidate(image, {}, &k, [&](CornerEdges edges) {
+    offered_scales.push_back(edges.detection_scale);
+    if (edges.detection_scale != 0.5) return false;
+    at_half = std::move(edges);
+    return true;
+  });
+  EXPECT_FALSE(error.has_value());
+  ASSERT_TRUE(at_half.has_value());
+  ASSERT_GE(offered_scales.size(), 2u);
+  EXPECT_EQ(offered_scales.front(), 0.25);
+  EXPECT_LT((at_half->corner_px - located->corner_px).norm(), 6.0);
+
+  // Refusing everything: each resolution offered its Ys, and the reason names the last.
+  int offered = 0;
+  const auto refused = ForEachCornerCandidate(image, {}, &k, [&](CornerEdges) {
+    ++offered;
+    return false;
+  });
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_GE(offered, 2);
+  EXPECT_NE(refused->message.find("no Y found is a ceiling corner"), std::string::npos)
+      << refused->message;
+}
+
+// Images under 800 px on a side are searched at half resolution only (a quarter would
+// leave too few pixels on a short edge).
+TEST(CornerDetectionScaleTest, ASmallImageIsSearchedAtHalfOnly) {
+  CameraIntrinsics k = testing::PaperCamera();
+  k.width_px /= 2;
+  k.height_px /= 2;
+  k.fx /= 2;
+  k.fy /= 2;
+  k.cx = (k.cx + 0.5) / 2 - 0.5;
+  k.cy = (k.cy + 0.5) / 2 - 0.5;
+  const CornerPose pose{2.0, 1.5, 1.6, std::atan2(2.0, -1.5), 0.9, 0.1};
+  CornerScene scene;
+  scene.noise_sigma = 2;
+  const cv::Mat image = RenderCornerScene(k, pose, scene);
+  std::vector<double> offered_scales;
+  (void)ForEachCornerCandidate(image, {}, &k, [&](CornerEdges edges) {
+    offered_scales.push_back(edges.detection_scale);
+    return false;
+  });
+  ASSERT_FALSE(offered_scales.empty());
+  for (double s : offered_scales) EXPECT_EQ(s, 0.5);
+}
+
+}  // namespace
+}  // namespace monocle

@@ -151,8 +151,9 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
   std::vector<EdgePointSample> out;
   const int search = static_cast<int>(std::ceil(half_width_px));
   const DerivativeKernel kernel(derivative_sigma_px);
-  // The profile reaches past the search window by the step's and the filter's reach.
-  const int r = search + std::max(kStep, kernel.Reach()) + 2;
+  // The profile reaches past the search window as far as PeakOfProfile reads: the step's
+  // sides (kStep + 1 from a peak inside the window) and the filter around its edge.
+  const int r = search + std::max(kStep, kernel.Reach() + 1);
   const double reach = std::hypot(r, kAlong) + 2;
   std::vector<float> profile(2 * r + 1);
   for (size_t i = 0; i < positions.size(); ++i) {
@@ -184,54 +185,79 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
                                                 int spacing_px, double half_width_px, int polarity,
                                                 double min_step_grey, double derivative_sigma_px) {
   std::vector<EdgePointSample> out;
-  if (count <= 0 || spacing_px <= 0) return out;
+  if (count <= 0 || spacing_px <= 0 || grey.cols < 2 || grey.rows < 2) return out;
   const int search = static_cast<int>(std::ceil(half_width_px));
   const DerivativeKernel kernel(derivative_sigma_px);
-  // The profile reaches past the search window by the step's and the filter's reach.
-  const int r = search + std::max(kStep, kernel.Reach()) + 2;
+  // The profile reaches past the search window as far as PeakOfProfile reads: the step's
+  // sides (kStep + 1 from a peak inside the window) and the filter around its edge.
+  const int r = search + std::max(kStep, kernel.Reach() + 1);
   const double reach = std::hypot(r, kAlong) + 2;
   const Eigen::Vector2d d = direction.normalized();
   const Eigen::Vector2d n(-d.y(), d.x());
   // Patch coordinates: column c along the edge, row o across it; image point =
-  // origin + c d + o n. The image region it covers, as float (no rounding of the samples).
+  // origin + c d + o n.
   const int width = (count - 1) * spacing_px + 2 * kAlong + 1, height = 2 * r + 1;
   const Eigen::Vector2d origin = start - kAlong * d - r * n;
-  Eigen::Vector2d lo = origin, hi = origin;
-  for (const Eigen::Vector2d& corner :
-       {Eigen::Vector2d(origin + (width - 1) * d), Eigen::Vector2d(origin + (height - 1) * n),
-        Eigen::Vector2d(origin + (width - 1) * d + (height - 1) * n)}) {
-    lo = lo.cwiseMin(corner);
-    hi = hi.cwiseMax(corner);
+  // Sampled here, bilinearly, with the image's edge pixels repeated beyond it (positions
+  // that close to the border are skipped below anyway). OpenCV's warpAffine did this before,
+  // but on a float copy of the region, with its position rounded to 1/32 px, and at ~100
+  // calls a frame its allocations cost more than the sampling.
+  thread_local std::vector<float> patch;
+  patch.resize(static_cast<size_t>(width) * height);
+  const int max_x0 = grey.cols - 2, max_y0 = grey.rows - 2;
+  const Eigen::Vector2d far_corner = origin + (width - 1) * d + (height - 1) * n;
+  Eigen::Vector2d lo = origin.cwiseMin(far_corner), hi = origin.cwiseMax(far_corner);
+  for (const Eigen::Vector2d& c :
+       {Eigen::Vector2d(origin + (width - 1) * d), Eigen::Vector2d(origin + (height - 1) * n)}) {
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
   }
-  const cv::Rect roi =
-      cv::Rect(static_cast<int>(std::floor(lo.x())) - 1, static_cast<int>(std::floor(lo.y())) - 1,
-               static_cast<int>(std::ceil(hi.x() - lo.x())) + 4,
-               static_cast<int>(std::ceil(hi.y() - lo.y())) + 4) &
-      cv::Rect(0, 0, grey.cols, grey.rows);
-  if (roi.width < 2 || roi.height < 2) return out;
-  cv::Mat region;
-  grey(roi).convertTo(region, CV_32F);
-  const cv::Matx23d patch_to_region(d.x(), n.x(), origin.x() - roi.x, d.y(), n.y(),
-                                    origin.y() - roi.y);
-  cv::Mat patch;
-  cv::warpAffine(region, patch, patch_to_region, cv::Size(width, height),
-                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
-  // Running sums along each row give every position's average over 2 kAlong + 1 columns.
-  cv::Mat sums;
-  cv::integral(patch, sums, CV_64F);
+  const bool inside = lo.x() >= 0 && lo.y() >= 0 && hi.x() < max_x0 + 1 && hi.y() < max_y0 + 1;
+  const size_t stride = grey.step[0];
+  const uint8_t* data = grey.data;
+  const float dx = static_cast<float>(d.x()), dy = static_cast<float>(d.y());
+  for (int o = 0; o < height; ++o) {
+    float* row = &patch[static_cast<size_t>(o) * width];
+    const Eigen::Vector2d row_origin = origin + static_cast<double>(o) * n;
+    const float x_start = static_cast<float>(row_origin.x());
+    const float y_start = static_cast<float>(row_origin.y());
+    for (int c = 0; c < width; ++c) {
+      const float x = x_start + static_cast<float>(c) * dx,
+                  y = y_start + static_cast<float>(c) * dy;
+      int x0, y0;
+      float fx, fy;
+      if (inside) {  // the patch is in the image: no clamping (x, y >= 0, so casts floor)
+        x0 = static_cast<int>(x);
+        y0 = static_cast<int>(y);
+        fx = x - static_cast<float>(x0);
+        fy = y - static_cast<float>(y0);
+      } else {
+        x0 = std::clamp(static_cast<int>(std::floor(x)), 0, max_x0);
+        y0 = std::clamp(static_cast<int>(std::floor(y)), 0, max_y0);
+        fx = std::clamp(x - static_cast<float>(x0), 0.0f, 1.0f);
+        fy = std::clamp(y - static_cast<float>(y0), 0.0f, 1.0f);
+      }
+      const uint8_t* r0 = data + static_cast<size_t>(y0) * stride + x0;
+      const uint8_t* r1 = r0 + stride;
+      const float top = r0[0] + fx * static_cast<float>(r0[1] - r0[0]);
+      const float bottom = r1[0] + fx * static_cast<float>(r1[1] - r1[0]);
+      row[c] = top + fy * (bottom - top);
+    }
+  }
   std::vector<float> profile(height);
-  const double scale = 1.0 / (2 * kAlong + 1);
+  constexpr float kScale = 1.0f / (2 * kAlong + 1);
   for (int i = 0; i < count; ++i) {
     const Eigen::Vector2d p = start + static_cast<double>(i * spacing_px) * d;
     if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
         p.y() > grey.rows - 1 - reach) {
       continue;
     }
-    const int c0 = i * spacing_px, c1 = c0 + 2 * kAlong + 1;
+    const int c0 = i * spacing_px;
     for (int o = 0; o < height; ++o) {
-      const double* row0 = sums.ptr<double>(o);
-      const double* row1 = sums.ptr<double>(o + 1);
-      profile[o] = static_cast<float>(scale * ((row1[c1] - row1[c0]) - (row0[c1] - row0[c0])));
+      const float* row = &patch[static_cast<size_t>(o) * width + c0];
+      float sum = 0;
+      for (int a = 0; a < 2 * kAlong + 1; ++a) sum += row[a];
+      profile[o] = kScale * sum;
     }
     if (auto found = PeakOfProfile(kernel, profile.data(), r, search, half_width_px, polarity,
                                    min_step_grey, p, n)) {

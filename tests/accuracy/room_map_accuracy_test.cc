@@ -237,13 +237,15 @@ TEST_P(RoomDriveTest, ADriveThroughTheLShapedHall) {
   EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.002);
   EXPECT_LE(Percentile(heading_deg, 0.5), 0.04);
   EXPECT_LE(Percentile(heading_deg, 0.95), 0.4);
-  // The base's reported 1 sigma covers about 68 % of the actual errors (measured x 61 / 61 %,
-  // y 64 / 56 %: the corner solve's sigma is a little small on the realistic look).
+  // The base's reported 1 sigma covers about 68 % of the actual errors (measured x 80 / 77 %,
+  // y 80 / 68 %). A little more than 68 %: the level update assumes floors level to 0.3 deg
+  // (1 sigma) and the renders are exactly level, so wherever it decides the tilt the sigma is
+  // on the safe side.
   const double n = static_cast<double>(horizontal_rel.size());
   EXPECT_GE(covered_x / n, 0.55);
-  EXPECT_LE(covered_x / n, 0.80);
+  EXPECT_LE(covered_x / n, 0.85);
   EXPECT_GE(covered_y / n, 0.55);
-  EXPECT_LE(covered_y / n, 0.80);
+  EXPECT_LE(covered_y / n, 0.85);
 }
 
 // Under ThreadSanitizer (MONOCLE_TSAN) the drive takes over ten minutes a seed set: the
@@ -281,6 +283,46 @@ TEST(RoomMapAccuracyTest,
                   MapPosePrior{{4.9, 1.3, -0.4}, 0.5, 0.5}, Extents(f.k, *loc));
   ASSERT_EQ(tracked.consistent.size(), 1u);
   EXPECT_EQ(tracked.consistent[0].corner_id, "hall-1");
+}
+
+// Frame 5 of room_map_cli_test (its look: seed 3105), the noise drawn afresh 24 times. The
+// edge X fades out 240 px from the corner (4 grey levels at noise 1.5); beyond, the second
+// pass still finds the steepest noise near the first pass's line, and those far points have
+// the most leverage on X's direction. Counted as measurements, they made the reported 1
+// sigma 3x too small (covering 27 % of the errors, one 5.8 sigma off). Its direction is
+// now only as certain as the points that follow each other from the corner make it.
+TEST(RoomMapAccuracyTest, AnEdgeFadingOutIsNotCreditedWithItsFarPoints) {
+  const Fixture f = Load();
+  const BasePose2d truth{2.40, 1.35, -14 * M_PI / 180};
+  const RigidTransform map_camera = Compose3(truth, f.mount);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = map_camera.rotation.toRotationMatrix();
+  t.translation() = map_camera.translation;
+  RoomScene scene;
+  scene.realistic = RandomRealisticLook(3105, f.k);
+  int poses = 0, covered = 0;
+  double worst_sigmas = 0;
+  for (uint64_t noise = 0; noise < 24; ++noise) {
+    scene.seed = 5000 + noise;
+    const auto loc = LocateCorner(RenderRoomView(f.k, f.hall(), t, scene), f.k, 2.2);
+    if (!loc) continue;
+    const MapLocation where =
+        LocateInMap(f.map, f.mount, loc->pose, loc->covariance,
+                    MapPosePrior{{2.2, 1.34, -15 * M_PI / 180}, 0.5, 0.5}, Extents(f.k, *loc));
+    ASSERT_TRUE(where.decided()) << "noise " << noise;
+    const MapPoseCandidate& got = where.consistent.front();
+    ASSERT_EQ(got.corner_id, "hall-2");
+    ++poses;
+    // Along the view (map x) the error is largest: the far corner's range follows the tilt.
+    const double sigmas = std::abs(got.base.x_m - truth.x_m) / std::sqrt(got.base_covariance(0, 0));
+    covered += sigmas <= 1;
+    worst_sigmas = std::max(worst_sigmas, sigmas);
+  }
+  std::cout << "  1 sigma covers " << covered << " of " << poses << " errors; the worst is "
+            << worst_sigmas << " sigma\n";
+  ASSERT_GE(poses, 20);
+  EXPECT_GE(static_cast<double>(covered) / poses, 0.5);
+  EXPECT_LT(worst_sigmas, 3.5);
 }
 
 }  // namespace

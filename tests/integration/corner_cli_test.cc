@@ -123,6 +123,13 @@ TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
     proto::CornerOutput out;
     ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(lines[i], &out).ok()) << lines[i];
     EXPECT_EQ(out.source(), expected[i]) << "frame " << i;
+    // A detected frame says which resolution found its Y (these, a quarter); a tracked one
+    // was not searched.
+    if (out.source() == "detected") {
+      EXPECT_EQ(out.detection_scale(), 0.25) << lines[i];
+    } else {
+      EXPECT_FALSE(out.has_detection_scale()) << lines[i];
+    }
     EXPECT_NEAR(out.x(), 2.0 + 0.01 * i, 0.01) << lines[i];
     EXPECT_NEAR(out.y(), 1.5, 0.01) << lines[i];
     EXPECT_FALSE(out.suspect()) << out.suspect_reason();
