@@ -17,6 +17,9 @@ constexpr double kProfileWindowPx = 7.0;
 // way along the whole edge. Chosen on the realistic development renders (seeds 7 and 8) so
 // the reported 1 sigma covers ~68 % of the errors; the accuracy test checks it on others.
 constexpr double kLineBiasPx = 0.1;
+// The edges' steps are compared this close to the corner (pixels), before shading along
+// them changes the surfaces' brightness.
+constexpr double kStepNearCornerPx = 100;
 // No edge point is measured better than this (1 sigma, pixels), whatever its scatter says.
 constexpr double kMinPointSigmaPx = 0.05;
 
@@ -221,6 +224,21 @@ std::string Format(const char* format, double a, double b = 0) {
   return buffer;
 }
 
+// Each edge's step near the corner (grey levels): the median |step| of its points within
+// `radius_px` of the corner (all its points when fewer than 5 lie there).
+double StepNearCornerGrey(const LineFit& fit, const Eigen::Vector2d& corner_n, double focal,
+                          double radius_px) {
+  std::vector<double> near, all;
+  for (size_t i = 0; i < fit.inliers.size(); ++i) {
+    all.push_back(std::abs(fit.inlier_steps[i]));
+    if ((fit.inliers[i] - corner_n).norm() * focal <= radius_px) near.push_back(all.back());
+  }
+  std::vector<double>& v = near.size() >= 5 ? near : all;
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 // Per-edge support against the refined pose, and whether to call the pose suspect.
 void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits,
                    const std::array<int, 3>& axis_of_line, const Eigen::Vector2d& corner_n,
@@ -288,6 +306,17 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
     if (s.misfit_px > allowed)
       reasons.push_back(
           edge + Format(" lies %.2f px off the pose's line (allowed %.2f)", s.misfit_px, allowed));
+  }
+  std::array<double, 3> steps_near_corner;
+  for (int m = 0; m < 3; ++m)
+    steps_near_corner[m] = StepNearCornerGrey(fits[m], corner_n, focal, kStepNearCornerPx);
+  std::sort(steps_near_corner.begin(), steps_near_corner.end());
+  const double excess = steps_near_corner[2] - steps_near_corner[1] - steps_near_corner[0];
+  if (steps_near_corner[2] > 0 && excess > quality.max_step_excess * steps_near_corner[2]) {
+    reasons.push_back(Format("the edges' steps do not add up: %.1f grey levels across one, ",
+                             steps_near_corner[2]) +
+                      Format("%.1f + %.1f across the others (at a corner one equals the other two)",
+                             steps_near_corner[1], steps_near_corner[0]));
   }
   out->rms_px = std::sqrt(sum2 / std::max(total, 1));
   const double horizontal = std::hypot(out->pose.x_m, out->pose.y_m);

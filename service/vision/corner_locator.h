@@ -68,6 +68,12 @@ struct CornerQualityOptions {
   double max_edge_misfit_sigmas = 4.0;
   double min_edge_misfit_px = 0.5;
   double max_relative_sigma = 0.02;  // horizontal 1 sigma over the horizontal distance
+  // Three surfaces meet at a corner, so near it the largest of the three edges' steps equals
+  // the other two combined. Measured it comes out smaller (down to -60 % on realistic
+  // renders: blur mixes the three surfaces at the junction); larger by more than this
+  // fraction of itself, one "edge" is not between those surfaces (a faint line of texture
+  // or noise taken for the corner's edge).
+  double max_step_excess = 0.4;
 };
 
 Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics& intrinsics,
