@@ -705,10 +705,12 @@ std::string DiagnoseMissingY(const cv::Mat& grey, const std::vector<Segment>& se
 }
 
 // One detection at `scale` of the image: the Hough stage there, then every Y it finds
-// measured at full resolution and offered to `accept`. Nothing, or why none was accepted.
+// measured at full resolution and offered to `accept`. Nothing, or why none was accepted;
+// with `diagnose`, a view without a Y says what was seen (measured at full resolution: a
+// twentieth of a detection, spent only where the reason is reported).
 std::optional<Error> TryScale(const cv::Mat& grey, const CornerDetectorOptions& options,
                               const CameraIntrinsics* k, double scale, double noise_sigma_grey,
-                              const std::function<bool(CornerEdges)>& accept) {
+                              bool diagnose, const std::function<bool(CornerEdges)>& accept) {
   const auto stage = FindSegments(grey, options, k, scale);
   const auto& segments = stage.segments;
   auto to_full = [&](const Eigen::Vector2d& p) { return ToImage(p, scale, k); };
@@ -721,6 +723,8 @@ std::optional<Error> TryScale(const cv::Mat& grey, const CornerDetectorOptions& 
                                           options.junction_radius_px * scale);
   out.noise_sigma_grey = noise_sigma_grey;
   const double min_step = MinStepGrey(options, out.noise_sigma_grey);
+  if (candidates.empty() && !diagnose)
+    return MakeError(ErrorCode::kNotFound, "no ceiling corner found at this resolution");
   if (candidates.empty()) {
     return MakeError(ErrorCode::kNotFound,
                      "no ceiling corner found: " +
@@ -793,10 +797,11 @@ std::optional<Error> ForEachCornerCandidate(const cv::Mat& grey,
   const double noise_sigma_grey = EstimateNoiseSigma(grey);
   const double coarse = DetectionScale(grey, options.quarter_resolution_first),
                fine = DetectionScale(grey, false);
-  const auto why = TryScale(grey, options, k, coarse, noise_sigma_grey, accept);
+  const auto why =
+      TryScale(grey, options, k, coarse, noise_sigma_grey, /*diagnose=*/coarse == fine, accept);
   if (!why || coarse == fine) return why;
   // Again at the finer resolution, whose reason is the one to report.
-  return TryScale(grey, options, k, fine, noise_sigma_grey, accept);
+  return TryScale(grey, options, k, fine, noise_sigma_grey, /*diagnose=*/true, accept);
 }
 
 }  // namespace monocle
