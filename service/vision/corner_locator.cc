@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 
 namespace monocle {
@@ -317,6 +318,13 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
                              steps_near_corner[2]) +
                       Format("%.1f + %.1f across the others (at a corner one equals the other two)",
                              steps_near_corner[1], steps_near_corner[0]));
+  }
+  if (std::abs(out->pose.swing_rad) > quality.max_swing_rad) {
+    reasons.push_back(
+        Format("the camera would be rolled %.0f degrees about its axis (more than "
+               "%.0f): a floor corner or another Y taken for the ceiling's?",
+               out->pose.swing_rad * 180 / std::numbers::pi,
+               quality.max_swing_rad * 180 / std::numbers::pi));
   }
   out->rms_px = std::sqrt(sum2 / std::max(total, 1));
   const double horizontal = std::hypot(out->pose.x_m, out->pose.y_m);

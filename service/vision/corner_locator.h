@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <numbers>
 #include <opencv2/core.hpp>
 #include <ostream>
 #include <string>
@@ -74,6 +75,11 @@ struct CornerQualityOptions {
   // fraction of itself, one "edge" is not between those surfaces (a faint line of texture
   // or noise taken for the corner's edge).
   double max_step_excess = 0.4;
+  // A camera on a robot stands upright give or take its mount's roll (the product's range is
+  // +-30 degrees of swing). A pose rolled further is most often another Y read as the
+  // ceiling corner: a floor corner is a Y too, and from any view of it the closed form finds
+  // a ceiling-corner pose that fits its lines exactly, rolled far over.
+  double max_swing_rad = 45 * std::numbers::pi / 180;
 };
 
 Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics& intrinsics,
