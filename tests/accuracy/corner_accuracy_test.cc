@@ -184,6 +184,27 @@ TEST(CornerAccuracyTest, OnePercentCeilingDistanceErrorMovesThePositionByOnePerc
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
 }
 
+// View `index` of RenderAndLocate's realistic set with `seed`, rendered alone.
+struct RealisticView {
+  CornerPose truth;
+  CornerScene scene;
+  cv::Mat image;
+};
+RealisticView RenderRealisticView(const CameraIntrinsics& k, uint64_t seed, int index) {
+  std::mt19937_64 rng(seed);
+  std::optional<CornerPose> truth;
+  for (int i = 0; i <= index; ++i)
+    truth = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/i % 3 == 0);
+  RealisticView view;
+  view.truth = truth.value();
+  view.scene.noise_sigma = 2;
+  view.scene.seed = seed * 1000 + index;
+  view.scene.realistic = RandomRealisticLook(view.scene.seed, k);
+  view.scene.room_height_m = view.truth.z_m + 1.2;
+  view.image = RenderCornerScene(k, view.truth, view.scene);
+  return view;
+}
+
 // View 7 of realistic seed 735911 (a fresh seed, run once after the quarter-resolution
 // search went in): at a quarter of the resolution the Y was found 9 px beside the corner,
 // its "Y" edge a faint line in the textured strip along the walls (step 3.4 grey levels near
@@ -192,19 +213,9 @@ TEST(CornerAccuracyTest, OnePercentCeilingDistanceErrorMovesThePositionByOnePerc
 // suspect, and the half-resolution search decides, as it does for every suspect pose.
 TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
   const CameraIntrinsics k = testing::PaperCamera();
-  constexpr uint64_t kSeed = 735911;
-  constexpr int kView = 7;
-  std::mt19937_64 rng(kSeed);
-  std::optional<CornerPose> truth;
-  for (int i = 0; i <= kView; ++i)
-    truth = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/i % 3 == 0);
-  ASSERT_TRUE(truth.has_value());
-  CornerScene scene;
-  scene.noise_sigma = 2;
-  scene.seed = kSeed * 1000 + kView;
-  scene.realistic = RandomRealisticLook(scene.seed, k);
-  scene.room_height_m = truth->z_m + 1.2;
-  const cv::Mat image = RenderCornerScene(k, *truth, scene);
+  const RealisticView view = RenderRealisticView(k, 735911, 7);
+  const cv::Mat& image = view.image;
+  const CornerPose* truth = &view.truth;
   auto relative_error = [&](const CornerLocation& got) {
     return std::hypot(got.pose.x_m - truth->x_m, got.pose.y_m - truth->y_m) /
            std::hypot(truth->x_m, truth->y_m);
@@ -233,19 +244,10 @@ TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
 // (CornerQualityOptions::max_swing_rad), so the pose is flagged.
 TEST(CornerAccuracyTest, AFloorCornerTakenForTheCeilingsIsSuspect) {
   const CameraIntrinsics k = testing::PaperCamera();
-  constexpr uint64_t kSeed = 557123;
-  constexpr int kView = 16;
-  std::mt19937_64 rng(kSeed);
-  std::optional<CornerPose> truth;
-  for (int i = 0; i <= kView; ++i)
-    truth = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/i % 3 == 0);
-  ASSERT_TRUE(truth.has_value());
-  CornerScene scene;
-  scene.noise_sigma = 2;
-  scene.seed = kSeed * 1000 + kView;
-  scene.realistic = RandomRealisticLook(scene.seed, k);
-  scene.room_height_m = truth->z_m + 1.2;
-  const cv::Mat image = RenderCornerScene(k, *truth, scene);
+  const RealisticView view = RenderRealisticView(k, 557123, 16);
+  const cv::Mat& image = view.image;
+  const CornerPose* truth = &view.truth;
+  const CornerScene& scene = view.scene;
   const double relative_error_limit = 0.05;
   auto relative_error = [&](const CornerLocation& got) {
     return std::hypot(got.pose.x_m - truth->x_m, got.pose.y_m - truth->y_m) /
