@@ -76,9 +76,10 @@ struct CornerQualityOptions {
   // or noise taken for the corner's edge).
   double max_step_excess = 0.4;
   // A camera on a robot stands upright give or take its mount's roll (the product's range is
-  // +-30 degrees of swing). A pose rolled further is most often another Y read as the
-  // ceiling corner: a floor corner is a Y too, and from any view of it the closed form finds
-  // a ceiling-corner pose that fits its lines exactly, rolled far over.
+  // +-30 degrees of swing). A pose rolled further is most likely another Y read as the
+  // ceiling corner: a floor corner is a Y too, and the ceiling-corner pose that fits its
+  // lines exactly rolls the camera over (68 degrees in the view that showed it). A camera
+  // mounted rolled further than this would have every pose flagged: raise it there.
   double max_swing_rad = 45 * std::numbers::pi / 180;
 };
 
