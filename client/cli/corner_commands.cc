@@ -74,7 +74,7 @@ An image whose pose in the map is not decided counts as failed for the exit stat
 
 Every pose says how well the image supports it: per edge the length found, its contrast
 against the image's noise, and how far its points lie from the pose's line. A pose whose
-edges disagree, or that is weakly determined (1 sigma above 2 % of the distance), is
+edges disagree, or that is weakly determined (1 sigma above 1.5 % of the distance), is
 printed as SUSPECT with the reason; it is never dropped silently.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
