@@ -303,5 +303,31 @@ TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
       << got->suspect_reason;
 }
 
+// View 3 of the cluttered set (seed 2024): the quarter-resolution search finds the corner,
+// the half-resolution search alone finds no Y that makes a pose. When the quarter's pose is
+// flagged (here every pose is, by an impossibly strict limit on its 1 sigma), the half-
+// resolution search is asked again; finding nothing, it must not lose the view: the quarter's
+// pose stands, still flagged.
+TEST(CornerAccuracyTest, AFlaggedCoarsePoseStandsWhenTheFinerSearchFindsNone) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  std::mt19937_64 rng(2024);
+  std::optional<CornerPose> truth;
+  for (int i = 0; i <= 3; ++i) truth = testing::RandomCornerPose(rng, k, /*margin_px=*/60);
+  ASSERT_TRUE(truth);
+  const cv::Mat image =
+      RenderCornerScene(k, *truth, SceneOfView(k, 2024, 3, Look::kCluttered, *truth));
+  CornerDetectorOptions half_only;
+  half_only.quarter_resolution_first = false;
+  ASSERT_FALSE(LocateCorner(image, k, truth->z_m, half_only).ok())
+      << "the half-resolution search alone finds a pose here";
+  CornerQualityOptions strict;
+  strict.max_relative_sigma = 1e-9;
+  const auto got = LocateCorner(image, k, truth->z_m, {}, strict);
+  ASSERT_TRUE(got.ok()) << got.error();
+  EXPECT_EQ(got->edges.detection_scale, 0.25);
+  EXPECT_TRUE(got->suspect);
+  EXPECT_LT(RelativeHorizontalError(*got, *truth), 0.01);
+}
+
 }  // namespace
 }  // namespace monocle
