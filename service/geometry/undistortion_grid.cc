@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace monocle {
 
@@ -47,6 +48,12 @@ Eigen::Vector2d UndistortionGrid::Undistort(const Eigen::Vector2d& px,
     jacobian->col(1) = ((1 - fx) * (c - a) + fx * (d - b)) / cell_px_;
   }
   return (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
+}
+
+const UndistortionGrid& UndistortionGridFor(const CameraIntrinsics& k) {
+  thread_local std::optional<UndistortionGrid> grid;
+  if (!grid || !grid->IsFor(k)) grid.emplace(k);
+  return *grid;
 }
 
 }  // namespace monocle

@@ -1,8 +1,8 @@
 // Pixel -> undistorted pixel, interpolated bilinearly from exact values on a coarse grid.
 // The Hough stage undistorts every edge pixel of a frame (thousands); the exact inverse
 // (Newton's method in PixelToNormalized) on each was a tenth of a detection's time. The
-// grid is for coarse work only (half-resolution voting): subpixel measurements use
-// PixelToNormalized itself.
+// grid is for coarse work only (half-resolution voting, the first fit that places the
+// full-resolution pass along an edge): subpixel measurements use PixelToNormalized itself.
 // Pure geometry: Eigen only, no I/O.
 #pragma once
 
@@ -34,5 +34,9 @@ class UndistortionGrid {
   int nodes_x_, nodes_y_;
   std::vector<Eigen::Vector2d> undistorted_px_;  // row-major nodes, NaN where not invertible
 };
+
+// The grid for `k`, built on first use and kept per thread until another camera's is asked
+// for (a camera's frames are processed one after another on one thread).
+const UndistortionGrid& UndistortionGridFor(const CameraIntrinsics& k);
 
 }  // namespace monocle

@@ -64,5 +64,21 @@ TEST(UndistortionGridTest, KnowsWhichCameraItWasBuiltFor) {
   EXPECT_EQ(j, Eigen::Matrix2d::Identity());
 }
 
+// The shared grid follows the camera asked for: another camera's intrinsics get their own.
+TEST(UndistortionGridTest, TheSharedGridIsTheCamerasAskedFor) {
+  auto k = testing::PaperCamera();
+  const Eigen::Vector2d corner_px(10, 10);
+  const Eigen::Vector2d first = UndistortionGridFor(k).Undistort(corner_px);
+  EXPECT_TRUE(UndistortionGridFor(k).IsFor(k));
+  k.distortion[0] *= 2;
+  EXPECT_TRUE(UndistortionGridFor(k).IsFor(k));
+  EXPECT_GT((UndistortionGridFor(k).Undistort(corner_px) - first).norm(), 1)
+      << "twice the radial distortion moves the image corner further";
+  const auto exact = PixelToNormalized(k, corner_px);
+  ASSERT_TRUE(exact);
+  const Eigen::Vector2d exact_px(k.fx * exact->x() + k.cx, k.fy * exact->y() + k.cy);
+  EXPECT_LT((UndistortionGridFor(k).Undistort(corner_px) - exact_px).norm(), 0.01);
+}
+
 }  // namespace
 }  // namespace monocle

@@ -458,11 +458,10 @@ SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& opti
   if (k != nullptr && k->HasDistortion()) {
     // Move every edge pixel (and its gradient) to where an undistorted camera sees it,
     // interpolated from a grid built once per camera (and thread).
-    thread_local std::optional<UndistortionGrid> grid;
-    if (!grid || !grid->IsFor(*k)) grid.emplace(*k);
+    const UndistortionGrid& grid = UndistortionGridFor(*k);
     for (auto& e : edges) {
       Eigen::Matrix2d j;
-      const Eigen::Vector2d u = grid->Undistort(ToFull(Eigen::Vector2d(e.x, e.y), out.scale), &j);
+      const Eigen::Vector2d u = grid.Undistort(ToFull(Eigen::Vector2d(e.x, e.y), out.scale), &j);
       const Eigen::Vector2d p = ToSmall(u, out.scale);
       const Eigen::Vector2d tangent = (j * Eigen::Vector2d(-e.ny, e.nx)).normalized();
       e.x = static_cast<float>(p.x());

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <optional>
 
+#include "service/geometry/undistortion_grid.h"
+
 namespace monocle {
 namespace {
 
@@ -126,6 +128,23 @@ void Undistort(const CameraIntrinsics& k, const std::vector<Eigen::Vector2d>& px
   }
 }
 
+// The detector's points, undistorted from the camera's grid (within 0.01 px of the exact
+// inverse, at a tenth of its cost): enough to place the second pass, which measures every
+// point again and is undistorted exactly.
+void UndistortCoarsely(const CameraIntrinsics& k, const std::vector<Eigen::Vector2d>& px,
+                       const std::vector<double>& steps, std::vector<Eigen::Vector2d>* points,
+                       std::vector<double>* kept_steps) {
+  if (!k.HasDistortion()) return Undistort(k, px, steps, points, kept_steps);
+  const UndistortionGrid& grid = UndistortionGridFor(k);
+  points->clear();
+  kept_steps->clear();
+  for (size_t i = 0; i < px.size(); ++i) {
+    const Eigen::Vector2d u = grid.Undistort(px[i]);
+    points->emplace_back((u.x() - k.cx) / k.fx, (u.y() - k.cy) / k.fy);
+    kept_steps->push_back(i < steps.size() ? steps[i] : 0.0);
+  }
+}
+
 // One edge: a first fit of the detector's points, then a second pass along the fitted line
 // as the lens bends it, with a narrower window (a straight first pass drifts off a distorted
 // edge far from the corner), and the final robust fit. Updates the edge's points (and says
@@ -137,7 +156,7 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   const double floor_sigma = 0.05 / focal;  // no edge is measured better than 0.05 px
   std::vector<Eigen::Vector2d> points;
   std::vector<double> steps;
-  Undistort(k, edges->points_px[m], edges->step_grey[m], &points, &steps);
+  UndistortCoarsely(k, edges->points_px[m], edges->step_grey[m], &points, &steps);
   auto first = RobustLineFit(points, steps, floor_sigma);
   if (!first) return std::nullopt;
   const Eigen::Vector2d corner_n = PixelToNormalized(k, edges->corner_px).value_or(first->centroid);
