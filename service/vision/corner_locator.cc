@@ -129,8 +129,8 @@ void Undistort(const CameraIntrinsics& k, const std::vector<Eigen::Vector2d>& px
 }
 
 // The detector's points, undistorted from the camera's grid (within 0.01 px of the exact
-// inverse, at a tenth of its cost): enough to place the second pass, which measures every
-// point again and is undistorted exactly.
+// inverse, and ~5 % of a realistic frame's time less): enough to place the second pass,
+// which measures every point again and is undistorted exactly.
 void UndistortCoarsely(const CameraIntrinsics& k, const std::vector<Eigen::Vector2d>& px,
                        const std::vector<double>& steps, std::vector<Eigen::Vector2d>* points,
                        std::vector<double>* kept_steps) {
