@@ -75,7 +75,9 @@ An image whose pose in the map is not decided counts as failed for the exit stat
 Every pose says how well the image supports it: per edge the length found, its contrast
 against the image's noise, and how far its points lie from the pose's line. A pose whose
 edges disagree, or that is weakly determined (1 sigma above 1.5 % of the distance), is
-printed as SUSPECT with the reason; it is never dropped silently.
+printed as SUSPECT with the reason; it is never dropped silently. So is a pose that rolls
+the camera more than 45 degrees about its axis (a floor corner read as the ceiling's): a
+camera mounted rolled further sets corner { max_swing: RADIANS } in its calibration file.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --camera ID              the camera's poses as monocled publishes them (same JSON as
@@ -243,14 +245,18 @@ int Locate(const std::vector<std::string>& argv) {
     return Fail("--detect-every must be a whole number of images >= 1", kExitUsage);
   CornerTrackerOptions tracking;
   tracking.detect_every_n_frames = static_cast<int>(*detect_every);
+  CornerQualityOptions quality;  // corner { max_swing } in the calibration file
+  quality.max_swing_rad = calibration->corner_max_swing_rad.value_or(quality.max_swing_rad);
   std::optional<CornerTracker> tracker;
-  if (args->Has("--track")) tracker.emplace(calibration->intrinsics, zc, tracking);
+  if (args->Has("--track"))
+    tracker.emplace(calibration->intrinsics, zc, tracking, CornerDetectorOptions{}, quality);
   bool any_failed = false;
   for (const auto& path : args->positionals()) {
     const auto image = ReadGreyImage(path);
-    Result<CornerLocation> result = !image    ? Result<CornerLocation>(image.error())
-                                    : tracker ? tracker->Process(*image)
-                                              : LocateCorner(*image, calibration->intrinsics, zc);
+    Result<CornerLocation> result =
+        !image    ? Result<CornerLocation>(image.error())
+        : tracker ? tracker->Process(*image)
+                  : LocateCorner(*image, calibration->intrinsics, zc, {}, quality);
     if (!image && tracker) tracker->Reset();  // a gap in the sequence
     any_failed |= !result.ok();
     std::optional<MapLocation> where;

@@ -155,7 +155,9 @@ int ReplayCommand(const std::vector<std::string>& argv) {
                       "(metres)",
                   kExitUsage);
     }
-    r.tracker.emplace(calibration.intrinsics, zc, tracking);
+    CornerQualityOptions quality;  // corner { max_swing } in the calibration file
+    quality.max_swing_rad = calibration.corner_max_swing_rad.value_or(quality.max_swing_rad);
+    r.tracker.emplace(calibration.intrinsics, zc, tracking, CornerDetectorOptions{}, quality);
     auto source = RecordingSource::Open(path, r.recorded.ros_namespace, ReplayPace{*rate, false});
     if (!source) return Fail(source.error(), kExitFailure);
     r.source = std::move(*source);

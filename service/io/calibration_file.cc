@@ -150,6 +150,13 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
       return Invalid(source, "corner.ceiling_distance", "must be a positive distance in metres");
     out.ceiling_distance_m = z;
   }
+  if (msg.has_corner() && msg.corner().has_max_swing()) {
+    const double swing = msg.corner().max_swing();
+    if (!Finite(swing) || !(swing > 0) || swing > std::numbers::pi)
+      return Invalid(source, "corner.max_swing",
+                     "must be an angle in radians, more than 0 and at most pi (3.14159)");
+    out.corner_max_swing_rad = swing;
+  }
   return out;
 }
 
@@ -197,6 +204,7 @@ std::string FormatCalibration(const CameraCalibration& c) {
     f->set_method(ToString(c.floor->method));
   }
   if (c.ceiling_distance_m) msg.mutable_corner()->set_ceiling_distance(*c.ceiling_distance_m);
+  if (c.corner_max_swing_rad) msg.mutable_corner()->set_max_swing(*c.corner_max_swing_rad);
   google::protobuf::TextFormat::Printer printer;
   std::string text;
   printer.PrintToString(msg, &text);

@@ -14,9 +14,10 @@ namespace monocle {
 
 struct CameraCalibration {
   CameraIntrinsics intrinsics;
-  std::optional<FloorCalibration> floor;     // absent until the floor is calibrated
-  std::optional<double> ceiling_distance_m;  // corner { ceiling_distance }
-  double intrinsics_rms_px = 0;              // 0 when unknown
+  std::optional<FloorCalibration> floor;       // absent until the floor is calibrated
+  std::optional<double> ceiling_distance_m;    // corner { ceiling_distance }
+  std::optional<double> corner_max_swing_rad;  // corner { max_swing }
+  double intrinsics_rms_px = 0;                // 0 when unknown
   // Zero when unknown (a file written by hand or before monocle tracked it).
   IntrinsicsCovariance intrinsics_covariance = IntrinsicsCovariance::Zero();
   std::string distortion_model;  // "k1k2", "k1k2p1p2", "k1k2p1p2k3"; empty when unknown

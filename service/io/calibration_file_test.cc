@@ -83,6 +83,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\ncorner { "
                 "ceiling_distance: -2 }",
                 "'corner.ceiling_distance'"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\ncorner { "
+                "max_swing: 0 }",
+                "'corner.max_swing'"},
+        BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\ncorner { "
+                "max_swing: 45 }",
+                "at most pi"},
         BadCase{"intrinsics { width: 1280 height: 1024 fx: 1 fy: 1 cx: 1 cy: 1 }\nfloor { height: "
                 "1 pitch: 1.8 covariance: [1, 2] }",
                 "'floor.covariance'"},
@@ -97,6 +103,7 @@ TEST(CalibrationFileTest, SaveThenLoadRoundTripsAndLeavesNoTemporaryFile) {
   cal.floor->covariance = FloorCovariance::Identity() * 1e-6;
   cal.floor->rms_px = 0.07;
   cal.ceiling_distance_m = 1.6;
+  cal.corner_max_swing_rad = 1.2;
   ASSERT_TRUE(SaveCalibrationFileAtomically(path, cal).ok());
   const auto back = LoadCalibrationFile(path);
   ASSERT_TRUE(back.ok()) << back.error();
@@ -104,6 +111,8 @@ TEST(CalibrationFileTest, SaveThenLoadRoundTripsAndLeavesNoTemporaryFile) {
   EXPECT_DOUBLE_EQ(back->floor->pose.pitch_rad, 1.8354);
   EXPECT_DOUBLE_EQ(back->floor->covariance(2, 2), 1e-6);
   EXPECT_DOUBLE_EQ(*back->ceiling_distance_m, 1.6);
+  ASSERT_TRUE(back->corner_max_swing_rad.has_value());
+  EXPECT_DOUBLE_EQ(*back->corner_max_swing_rad, 1.2);
   int files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 1);

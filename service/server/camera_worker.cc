@@ -164,6 +164,7 @@ void CameraWorker::Process() {
     std::chrono::steady_clock::time_point received;
     CameraIntrinsics intrinsics;
     double ceiling_m = 0;
+    CornerQualityOptions quality;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       frame_ready_.wait(lock, [&] { return stop_ || latest_.has_value(); });
@@ -173,24 +174,28 @@ void CameraWorker::Process() {
       received = latest_received_;
       intrinsics = calibration_.intrinsics;
       ceiling_m = setup_.ceiling_distance_m.value_or(calibration_.ceiling_distance_m.value_or(0));
+      quality.max_swing_rad = calibration_.corner_max_swing_rad.value_or(quality.max_swing_rad);
     }
     ProcessedFrame out;
     out.sequence = frame.sequence;
     out.capture_time_ns = frame.capture_time_ns;
     out.camera_clock = frame.time_source == TimeSource::kCamera;
-    // One tracker per calibration: a new intrinsics or ceiling distance starts afresh.
+    // One tracker per calibration: new intrinsics, ceiling distance or roll limit start afresh.
     if (!tracker_ || tracker_intrinsics_.fx != intrinsics.fx ||
         tracker_intrinsics_.fy != intrinsics.fy || tracker_intrinsics_.cx != intrinsics.cx ||
         tracker_intrinsics_.cy != intrinsics.cy ||
         tracker_intrinsics_.distortion != intrinsics.distortion ||
         tracker_intrinsics_.width_px != intrinsics.width_px ||
-        tracker_intrinsics_.height_px != intrinsics.height_px || tracker_ceiling_m_ != ceiling_m) {
-      tracker_.emplace(intrinsics, ceiling_m);
+        tracker_intrinsics_.height_px != intrinsics.height_px || tracker_ceiling_m_ != ceiling_m ||
+        tracker_quality_.max_swing_rad != quality.max_swing_rad) {
+      tracker_.emplace(intrinsics, ceiling_m, CornerTrackerOptions{}, CornerDetectorOptions{},
+                       quality);
       tracker_intrinsics_ = intrinsics;
       tracker_ceiling_m_ = ceiling_m;
+      tracker_quality_ = quality;
     }
     out.corner = ceiling_m > 0 ? tracker_->Process(frame.grey)
-                               : LocateCorner(frame.grey, intrinsics, ceiling_m);
+                               : LocateCorner(frame.grey, intrinsics, ceiling_m, {}, quality);
     if (map_tracker_) {
       if (out.corner) {
         const CornerLocation& c = *out.corner;

@@ -103,6 +103,7 @@ class CameraWorker {
   std::optional<MapPoseTracker> map_tracker_;  // with a room map (processing thread only)
   CameraIntrinsics tracker_intrinsics_;
   double tracker_ceiling_m_ = 0;
+  CornerQualityOptions tracker_quality_;
 
   std::thread acquisition_, processing_;
 };

@@ -82,7 +82,8 @@ struct CornerQualityOptions {
   // +-30 degrees of swing). A pose rolled further is most likely another Y read as the
   // ceiling corner: a floor corner is a Y too, and the ceiling-corner pose that fits its
   // lines exactly rolls the camera over (68 degrees in the view that showed it). A camera
-  // mounted rolled further than this would have every pose flagged: raise it there.
+  // mounted rolled further than this would have every pose flagged: raise it there, with
+  // corner { max_swing } in its calibration file.
   double max_swing_rad = 45 * std::numbers::pi / 180;
 };
 

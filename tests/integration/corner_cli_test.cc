@@ -31,6 +31,8 @@ class CornerCliTest : public ::testing::Test {
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "nodistance.pbtxt", cal).ok());
     cal.ceiling_distance_m = 1.6;
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "cal.pbtxt", cal).ok());
+    cal.corner_max_swing_rad = 1.2;
+    ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "rolled.pbtxt", cal).ok());
   }
   TempDir dir_{"monocle_corner_cli"};
 };
@@ -153,6 +155,31 @@ TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
                            " --track --detect-every 0");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--detect-every"), std::string::npos) << r.err;
+}
+
+// A camera mounted rolled 52 degrees about its axis: beyond the default 45 every pose is
+// flagged (a floor corner read as the ceiling's rolls the camera over); corner { max_swing }
+// in its calibration file says how far this camera's mount may roll.
+TEST_F(CornerCliTest, ACameraMountedRolledSaysSoInItsCalibration) {
+  auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                                " --pose 2,1.5,1.6,2.2143,0.9,0.9 --noise 2 --out " +
+                                dir_ / "rolled.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  proto::CornerOutput out;
+  r = RunMonocle(dir_, "corner locate " + dir_ / "rolled.png" + " --calibration " +
+                           dir_ / "cal.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_NEAR(out.swing(), 0.9, 0.005);
+  EXPECT_TRUE(out.suspect());
+  EXPECT_NE(out.suspect_reason().find("rolled"), std::string::npos) << out.suspect_reason();
+  r = RunMonocle(dir_, "corner locate " + dir_ / "rolled.png" + " --calibration " +
+                           dir_ / "rolled.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_NEAR(out.x(), 2.0, 0.01);
+  EXPECT_NEAR(out.swing(), 0.9, 0.005);
+  EXPECT_FALSE(out.suspect()) << out.suspect_reason();
 }
 
 TEST_F(CornerCliTest, AViewWithoutACornerSaysWhatWasSeen) {
