@@ -152,18 +152,25 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   std::vector<HoughPeak> peaks;
   for (size_t candidate : candidates) {
     // H' may peak at the cell or at its rho neighbours. (A cell next to two candidates is
-    // looked at twice: cheaper than sorting the candidates to visit each once.)
-    for (int offset = -1; offset <= 1; ++offset) {
-      const size_t cell = candidate + offset;
-      const int a = static_cast<int>(cell / rho_bins), r = static_cast<int>(cell % rho_bins);
-      if (r < 1 || r >= rho_bins - 1) continue;
-      const int v = smoothed(a, r);
+    // looked at twice: cheaper than sorting the candidates to visit each once.) One division
+    // per candidate: they were a third of this loop's time when done per cell.
+    const int a = static_cast<int>(candidate / rho_bins);
+    const int r_candidate = static_cast<int>(candidate - static_cast<size_t>(a) * rho_bins);
+    const uint16_t* row = &acc[static_cast<size_t>(a) * rho_bins];
+    for (int r = std::max(r_candidate - 1, 1); r <= std::min(r_candidate + 1, rho_bins - 2); ++r) {
+      const int v = row[r - 1] + row[r] + row[r + 1];
       if (v < min_votes) continue;
       bool is_max = true;
+      // Inside the accumulator the neighbours' rows are read directly; at its edges through
+      // smoothed(), which wraps in angle and stops at the rho range.
+      const bool interior = a >= 1 && a < kAngleBins - 1 && r >= 2 && r < rho_bins - 2;
       for (int da = -1; da <= 1 && is_max; ++da) {
+        const uint16_t* near_row = row + static_cast<std::ptrdiff_t>(da) * rho_bins;
         for (int dr = -1; dr <= 1 && is_max; ++dr) {
           if (da == 0 && dr == 0) continue;
-          const int n = smoothed(a + da, r + dr);
+          const int rr = r + dr;
+          const int n =
+              interior ? near_row[rr - 1] + near_row[rr] + near_row[rr + 1] : smoothed(a + da, rr);
           // Ties broken towards the lower index so a plateau yields one peak.
           if (n > v || (n == v && (da < 0 || (da == 0 && dr < 0)))) is_max = false;
         }
@@ -440,15 +447,29 @@ Eigen::Vector2d RedistortPixel(const CameraIntrinsics& k, const Eigen::Vector2d&
       k, Eigen::Vector2d((undistorted_px.x() - k.cx) / k.fx, (undistorted_px.y() - k.cy) / k.fy));
 }
 
-SegmentStage FindSegments(const cv::Mat& grey, const CornerDetectorOptions& options,
+// The frame at the detection scales, halved once per frame and shared by the searches at
+// both scales. Halving by INTER_AREA averages 2x2 pixels and is ten times faster than one
+// resize to a quarter (OpenCV's general area path).
+class ScaledFrames {
+ public:
+  explicit ScaledFrames(const cv::Mat& grey) : full_(grey) {}
+  const cv::Mat& At(double scale) {
+    if (scale > 0.75) return full_;
+    if (half_.empty()) cv::resize(full_, half_, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    if (scale > 0.375) return half_;
+    if (quarter_.empty()) cv::resize(half_, quarter_, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    return quarter_;
+  }
+
+ private:
+  cv::Mat full_, half_, quarter_;
+};
+
+SegmentStage FindSegments(ScaledFrames& frames, const CornerDetectorOptions& options,
                           const CameraIntrinsics* k, double scale) {
   SegmentStage out;
   out.scale = scale;
-  out.small = grey;
-  // Halving by INTER_AREA averages 2x2 pixels and is ten times faster than one resize to a
-  // quarter (OpenCV's general area path).
-  for (double s = 1; s > scale * 1.01; s *= 0.5)
-    cv::resize(out.small, out.small, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  out.small = frames.At(scale);
   // A Gaussian before the gradient: edges between alike-painted surfaces are a few grey
   // levels high, and smoothing over ~2 px raises a long edge's gradient above the noise
   // (the paper's Sobel alone is not enough at a contrast-to-noise of 2).
@@ -707,10 +728,11 @@ std::string DiagnoseMissingY(const cv::Mat& grey, const std::vector<Segment>& se
 // measured at full resolution and offered to `accept`. Nothing, or why none was accepted;
 // with `diagnose`, a view without a Y says what was seen (measured at full resolution: a
 // twentieth of a detection, spent only where the reason is reported).
-std::optional<Error> TryScale(const cv::Mat& grey, const CornerDetectorOptions& options,
-                              const CameraIntrinsics* k, double scale, double noise_sigma_grey,
-                              bool diagnose, const std::function<bool(CornerEdges)>& accept) {
-  const auto stage = FindSegments(grey, options, k, scale);
+std::optional<Error> TryScale(const cv::Mat& grey, ScaledFrames& frames,
+                              const CornerDetectorOptions& options, const CameraIntrinsics* k,
+                              double scale, double noise_sigma_grey, bool diagnose,
+                              const std::function<bool(CornerEdges)>& accept) {
+  const auto stage = FindSegments(frames, options, k, scale);
   const auto& segments = stage.segments;
   auto to_full = [&](const Eigen::Vector2d& p) { return ToImage(p, scale, k); };
   CornerEdges out;
@@ -762,7 +784,8 @@ std::vector<HoughSegment> DetectStraightEdges(const cv::Mat& grey,
                                               const CameraIntrinsics* k) {
   std::vector<HoughSegment> out;
   if (grey.empty() || grey.type() != CV_8UC1 || grey.cols < 64 || grey.rows < 64) return out;
-  const auto stage = FindSegments(grey, options, k, DetectionScale(grey, false));
+  ScaledFrames frames(grey);
+  const auto stage = FindSegments(frames, options, k, DetectionScale(grey, false));
   for (const auto& s : stage.segments) {
     out.push_back(
         {ToImage(s.End(0), stage.scale, k), ToImage(s.End(1), stage.scale, k), s.support});
@@ -793,14 +816,18 @@ std::optional<Error> ForEachCornerCandidate(const cv::Mat& grey,
                      "the image is " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) +
                          ": too small to find a corner in (at least 64x64)");
   }
-  const double noise_sigma_grey = EstimateNoiseSigma(grey);
   const double coarse = DetectionScale(grey, options.quarter_resolution_first),
                fine = DetectionScale(grey, false);
-  const auto why =
-      TryScale(grey, options, k, coarse, noise_sigma_grey, /*diagnose=*/coarse == fine, accept);
+  // Halved first: that reads the whole frame (from memory, for a camera's new frame), and
+  // the noise estimate's rows are then read from the cache (a fifth less time for it).
+  ScaledFrames frames(grey);
+  frames.At(coarse);
+  const double noise_sigma_grey = EstimateNoiseSigma(grey);
+  const auto why = TryScale(grey, frames, options, k, coarse, noise_sigma_grey,
+                            /*diagnose=*/coarse == fine, accept);
   if (!why || coarse == fine) return why;
   // Again at the finer resolution, whose reason is the one to report.
-  return TryScale(grey, options, k, fine, noise_sigma_grey, /*diagnose=*/true, accept);
+  return TryScale(grey, frames, options, k, fine, noise_sigma_grey, /*diagnose=*/true, accept);
 }
 
 }  // namespace monocle
