@@ -83,5 +83,57 @@ camera { id: "ceiling" device: "127.0.0.1" role: CORNER calibration: "sim.pbtxt"
   EXPECT_LT(median(tracked), 1.5 * median(detected) + 0.0005);
 }
 
+// A camera mounted rolled 52 degrees, streamed through monocled: its poses are flagged
+// "rolled" with the default limit, and not once its calibration file says how far the mount
+// may roll (corner { max_swing }), read by the service's camera worker.
+TEST(TrackingStreamTest, AMountRolledFurtherThanUsualIsAcceptedWhenItsCalibrationSaysSo) {
+  TempDir dir("monocle_rolled_stream");
+  std::ofstream(dir / "trajectory.txt") << "2,1.5,1.6,2.2143,0.9,0.9\n";
+  testing::ChildProcess simcam(testing::MonocleBinary(),
+                               {"simcam", "--scene", "corner", "--fps", "15", "--trajectory",
+                                dir / "trajectory.txt", "--calibration-out", dir / "sim.pbtxt"},
+                               dir / "simcam.log");
+  const int wait_100ms = testing::kThreadSanitizer ? 3000 : 300;
+  for (int i = 0; i < wait_100ms && !std::ifstream(dir / "sim.pbtxt"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
+  std::string calibration = testing::ReadFile(dir / "sim.pbtxt");
+  const size_t corner = calibration.find("corner {");
+  ASSERT_NE(corner, std::string::npos) << calibration;
+  calibration.insert(corner + std::string("corner {").size(), "\n  max_swing: 1.2");
+  std::ofstream(dir / "rolled.pbtxt") << calibration;
+
+  for (const std::string file : {"sim.pbtxt", "rolled.pbtxt"}) {
+    SCOPED_TRACE(file);
+    auto monocled = testing::StartMonocled(
+        dir, "domain: " + std::to_string(kDomain) +
+                 "\ncamera { id: \"ceiling\" device: \"127.0.0.1\" role: CORNER calibration: \"" +
+                 file + "\" }\n");
+    const auto r = RunMonocle(dir,
+                              "corner locate --camera ceiling --count 3 --json --timeout 30 "
+                              "--domain " +
+                                  std::to_string(kDomain));
+    ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir / "monocled.log");
+    std::stringstream lines(r.out);
+    int poses = 0;
+    for (std::string line; std::getline(lines, line); ++poses) {
+      proto::LivePoseOutput out;
+      ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok()) << line;
+      ASSERT_FALSE(out.pose().has_error()) << out.pose().error();
+      EXPECT_NEAR(out.pose().swing(), 0.9, 0.005) << line;
+      EXPECT_NEAR(out.pose().x(), 2.0, 0.02) << line;
+      if (file == "sim.pbtxt") {
+        EXPECT_TRUE(out.pose().suspect()) << line;
+        EXPECT_NE(out.pose().suspect_reason().find("rolled"), std::string::npos) << line;
+      } else {
+        EXPECT_FALSE(out.pose().suspect()) << line;
+      }
+    }
+    EXPECT_EQ(poses, 3);
+    EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
+  }
+  EXPECT_EQ(simcam.Stop(), 0);
+}
+
 }  // namespace
 }  // namespace monocle
