@@ -29,6 +29,12 @@ enum class Look { kClean, kCluttered, kRealistic };
 struct Stats {
   int images = 0, located = 0, suspect = 0, unflagged_large = 0;
   int covered = 0, coverage_trials = 0;  // |error| < reported 1 sigma, for x and for y
+  // Poses whose reported horizontal 1 sigma is over 1 % of the distance (the view's geometry
+  // and edges allow no better), and how many of all poses are more than 1 % off.
+  int sigma_over_1pct = 0, error_over_1pct = 0;
+  // How many poses more than 1 % off the reported 1 sigma predicts: the sum over poses of
+  // P(|error| > 1 % of the distance) for a round Gaussian of the same total variance.
+  double expected_over_1pct = 0;
   std::vector<double> horizontal_rel, tilt_deg, pan_deg, swing_deg;
   std::vector<double> horizontal_rel_trusted;  // poses not flagged suspect
 
@@ -50,7 +56,9 @@ struct Stats {
               << Percentile(pan_deg, 0.95) << " deg; swing median " << Percentile(swing_deg, 0.5)
               << " p95 " << Percentile(swing_deg, 0.95) << " deg; 1 sigma of x, y covers "
               << 100 * Coverage() << " % of the errors; unflagged > 5 %: " << unflagged_large
-              << "\n";
+              << "; more than 1 % off: " << error_over_1pct << " (the 1 sigma predicts "
+              << expected_over_1pct << ")"
+              << ", reported 1 sigma over 1 %: " << sigma_over_1pct << "\n";
   }
 };
 
@@ -105,6 +113,10 @@ Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale 
     const auto sigma = got->Sigma();
     stats.covered += (std::abs(g.x() - t.x()) < sigma[0]) + (std::abs(g.y() - t.y()) < sigma[1]);
     stats.coverage_trials += 2;
+    stats.error_over_1pct += rel > 0.01;
+    const double sigma2 = sigma[0] * sigma[0] + sigma[1] * sigma[1];
+    stats.sigma_over_1pct += sigma2 > std::pow(0.01 * t.norm(), 2);
+    stats.expected_over_1pct += std::exp(-std::pow(0.01 * t.norm(), 2) / sigma2);
     if (rel > 0.05) {
       stats.unflagged_large += !got->suspect;
       std::cout << "large error " << 100 * rel << " %: truth " << *truth << " got " << *got << "\n";
@@ -157,6 +169,11 @@ void ExpectRealisticGoals(const Stats& s) {
   // determined; the worst say so with a 1 sigma of 2-6 %). Gated at ~2x the worst measured so
   // it cannot slip.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.02);
+  // Why p95 <= 1 % is out of reach here: 7-14 % of these views report a 1 sigma over 1 % of
+  // the distance, and the reported 1 sigma predicts at least as many poses more than 1 % off
+  // as there are (printed: 7 with 9.3 predicted on seed 2611, 2 with 4.5 on seed 90210). Not
+  // asserted: with ~70 views the count cannot tell a 1 sigma halved from an honest one (halved, it
+  // predicts 4.5 and 1.6); the coverage check below can.
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
   // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors (measured 70 / 71 % on the
