@@ -153,7 +153,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   for (size_t candidate : candidates) {
     // H' may peak at the cell or at its rho neighbours. (A cell next to two candidates is
     // looked at twice: cheaper than sorting the candidates to visit each once.) One division
-    // per candidate: they were a third of this loop's time when done per cell.
+    // per candidate: done per cell, the divisions and wrapping took a sixth of this loop.
     const int a = static_cast<int>(candidate / rho_bins);
     const int r_candidate = static_cast<int>(candidate - static_cast<size_t>(a) * rho_bins);
     const uint16_t* row = &acc[static_cast<size_t>(a) * rho_bins];
@@ -819,7 +819,7 @@ std::optional<Error> ForEachCornerCandidate(const cv::Mat& grey,
   const double coarse = DetectionScale(grey, options.quarter_resolution_first),
                fine = DetectionScale(grey, false);
   // Halved first: that reads the whole frame (from memory, for a camera's new frame), and
-  // the noise estimate's rows are then read from the cache (a fifth less time for it).
+  // the noise estimate's rows are then read from the cache (a sixth less time for it).
   ScaledFrames frames(grey);
   frames.At(coarse);
   const double noise_sigma_grey = EstimateNoiseSigma(grey);
