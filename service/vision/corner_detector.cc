@@ -642,7 +642,7 @@ Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges 
                                                  std::to_string(out.points_px[m].size()) +
                                                  " points with a step of at least " +
                                                  FormatGrey(min_step) + " grey levels at noise " +
-                                                 FormatGrey(out.noise_sigma_grey) + ")");
+                                                 FormatGrey(out.measurement_noise_grey) + ")");
     }
   }
   return out;
@@ -730,8 +730,8 @@ std::string DiagnoseMissingY(const cv::Mat& grey, const std::vector<Segment>& se
 // twentieth of a detection, spent only where the reason is reported).
 std::optional<Error> TryScale(const cv::Mat& grey, ScaledFrames& frames,
                               const CornerDetectorOptions& options, const CameraIntrinsics* k,
-                              double scale, double noise_sigma_grey, bool diagnose,
-                              const std::function<bool(CornerEdges)>& accept) {
+                              double scale, double noise_sigma_grey, double measurement_noise_grey,
+                              bool diagnose, const std::function<bool(CornerEdges)>& accept) {
   const auto stage = FindSegments(frames, options, k, scale);
   const auto& segments = stage.segments;
   auto to_full = [&](const Eigen::Vector2d& p) { return ToImage(p, scale, k); };
@@ -743,13 +743,14 @@ std::optional<Error> TryScale(const cv::Mat& grey, ScaledFrames& frames,
   const auto candidates = FindYCandidates(segments, stage.small.cols, stage.small.rows,
                                           options.junction_radius_px * scale);
   out.noise_sigma_grey = noise_sigma_grey;
+  out.measurement_noise_grey = measurement_noise_grey;
   const double min_step = MinStepGrey(options, out.noise_sigma_grey);
   if (candidates.empty() && !diagnose)
     return MakeError(ErrorCode::kNotFound, "no ceiling corner found at this resolution");
   if (candidates.empty()) {
     return MakeError(ErrorCode::kNotFound,
                      "no ceiling corner found: " +
-                         DiagnoseMissingY(grey, segments, scale, k, out.noise_sigma_grey,
+                         DiagnoseMissingY(grey, segments, scale, k, out.measurement_noise_grey,
                                           options.junction_radius_px * scale));
   }
   // The best supported Y first; a Y whose edges cannot be measured at full resolution
@@ -823,11 +824,13 @@ std::optional<Error> ForEachCornerCandidate(const cv::Mat& grey,
   ScaledFrames frames(grey);
   frames.At(coarse);
   const double noise_sigma_grey = EstimateNoiseSigma(grey);
+  const double measurement_noise_grey = EstimateMeasurementNoiseSigma(grey);
   const auto why = TryScale(grey, frames, options, k, coarse, noise_sigma_grey,
-                            /*diagnose=*/coarse == fine, accept);
+                            measurement_noise_grey, /*diagnose=*/coarse == fine, accept);
   if (!why || coarse == fine) return why;
   // Again at the finer resolution, whose reason is the one to report.
-  return TryScale(grey, frames, options, k, fine, noise_sigma_grey, /*diagnose=*/true, accept);
+  return TryScale(grey, frames, options, k, fine, noise_sigma_grey, measurement_noise_grey,
+                  /*diagnose=*/true, accept);
 }
 
 }  // namespace monocle

@@ -56,7 +56,12 @@ struct CornerEdges {
   // Each edge's blur, pixels (EdgeBlurSigmaPx of its points; 0: not measured): the locator
   // measures a blurred edge with a wider derivative filter.
   std::array<double, 3> blur_sigma_px{};
-  double noise_sigma_grey = 0;   // EstimateNoiseSigma of the image
+  // The image's noise, grey levels (1 sigma), two ways. Pixel to pixel (EstimateNoiseSigma):
+  // the detector's step thresholds were set against it. As a measurement averaging pixels
+  // sees it (EstimateMeasurementNoiseSigma): what an edge's contrast is judged against and
+  // what is reported. They agree on a raw image; after JPEG the second is 2-5x the first.
+  double noise_sigma_grey = 0;
+  double measurement_noise_grey = 0;
   double sample_spacing_px = 2;  // distance between neighbouring edge points along an edge
   // The resolution the Y was found at, relative to the image: 0.25 (a quarter, tried first
   // on images at least 800 px on each side), 0.5, or 1 (small images). Edge points are

@@ -447,7 +447,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   CornerLocation out;
   out.pose = refined->pose;
   out.covariance = refined->covariance;
-  out.noise_sigma_grey = edges.noise_sigma_grey;
+  out.noise_sigma_grey = edges.measurement_noise_grey;
   const Eigen::Matrix3d r = RotationCameraFromCorner(out.pose);
   out.q_corner_camera = Eigen::Quaterniond(r.transpose()).normalized();
   const Eigen::Vector3d c_cam = CornerToCamera(out.pose, Eigen::Vector3d::Zero());

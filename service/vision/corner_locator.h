@@ -24,7 +24,7 @@ struct EdgeSupport {
   double visible_length_px = 0;  // how long the pose says the edge runs in the image
   double coverage = 0;           // fraction of the visible edge where points were measured
   double contrast_grey = 0;      // median step across the edge, grey levels
-  double contrast_to_noise = 0;  // contrast_grey / the image's noise sigma
+  double contrast_to_noise = 0;  // contrast_grey / CornerLocation::noise_sigma_grey
   double rms_px = 0;             // RMS distance of its points to the line the pose predicts
   double sigma_px = 0;           // 1 sigma of the fitted line's position at its middle
   double misfit_px = 0;          // how far its own line sits from the pose's (RMS over it)
@@ -47,7 +47,8 @@ struct CornerLocation {
   std::array<int, 3> points_per_line{};        // inlier edge points of X, Y, Z
   double rms_px = 0;                           // RMS distance of edge points to the fitted lines
   std::array<EdgeSupport, 3> support;          // X, Y, Z
-  double noise_sigma_grey = 0;                 // the image's noise
+  // The image's noise as an edge measurement sees it (CornerEdges::measurement_noise_grey).
+  double noise_sigma_grey = 0;
   // Suspect: the edges do not support the pose consistently, or support it too weakly to
   // trust (see `suspect_reason`). Still a pose; never silently dropped or silently trusted.
   bool suspect = false;
@@ -62,8 +63,12 @@ std::ostream& operator<<(std::ostream& os, const CornerLocation& c);
 
 // When a pose is marked suspect.
 struct CornerQualityOptions {
-  double min_coverage = 0.3;           // an edge found on less of its visible length
-  double min_contrast_to_noise = 2.0;  // an edge fainter than this against the noise
+  double min_coverage = 0.3;  // an edge found on less of its visible length
+  // An edge whose median step is below this many times the noise an edge measurement sees
+  // (CornerLocation::noise_sigma_grey). At 1 a raw frame and its JPEG are flagged alike; it
+  // was 2 against the pixel-to-pixel noise, which JPEG lowers 2-5x: raw frames had good
+  // poses flagged (17 of 71 on development seed 7, against 7 compressed).
+  double min_contrast_to_noise = 1.0;
   // An edge whose own line sits further from the pose's line than this many of its 1 sigma
   // (and at least min_edge_misfit_px): the edges do not agree on one pose.
   double max_edge_misfit_sigmas = 4.0;

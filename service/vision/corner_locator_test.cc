@@ -95,6 +95,41 @@ TEST(CornerLocatorRoomTest, AWallEdgeFadedNearTheCornerStillMakesTheY) {
   EXPECT_NEAR(got->pose.swing_rad, truth.swing_rad, Deg(0.5)) << *got;
 }
 
+// A raw camera frame and the same frame as JPEG are judged alike. Compression removes most
+// of the pixel-to-pixel noise but not what the edge measurement averages, so the noise
+// reported (and each edge's contrast against it) is the sensor's in both. Judged against the
+// pixel-to-pixel noise instead, the JPEG frame's noise read 1.2 for a sensor's 3.5 and the
+// raw frame's faint wall-wall edge (6 grey levels) was flagged "contrast 6 at noise 3.5"
+// while the compressed frame's was not.
+TEST(CornerLocatorRoomTest, ARawFrameAndItsJpegAreJudgedAgainstTheSameNoise) {
+  const auto k = testing::PaperCamera();
+  const CornerPose pose{2.0, 1.5, 1.6, 2.2143, 0.9, 0.1};
+  CornerScene scene;
+  scene.seed = 12;
+  RealisticLook look;
+  look.ceiling_grey = 190;
+  look.wall_x0_grey = 170;
+  look.wall_y0_grey = 164;  // the wall-wall (Z) edge: 6 grey levels
+  look.vignetting = 0.1;
+  look.hotspot_gain = 0.05;
+  look.blur_sigma_px = 1.2;
+  look.noise_sigma = 3.5;
+  std::array<double, 2> noise{};
+  for (int jpeg_quality : {0, 80}) {
+    look.jpeg_quality = jpeg_quality;
+    scene.realistic = look;
+    const auto got = LocateCorner(RenderCornerScene(k, pose, scene), k, pose.z_m);
+    ASSERT_TRUE(got.ok()) << got.error().message;
+    EXPECT_NEAR(got->noise_sigma_grey, look.noise_sigma, 0.25 * look.noise_sigma)
+        << "JPEG quality " << jpeg_quality;
+    noise[jpeg_quality == 0 ? 0 : 1] = got->noise_sigma_grey;
+    EXPECT_FALSE(got->suspect) << "JPEG quality " << jpeg_quality << ": " << got->suspect_reason;
+    EXPECT_NEAR(got->pose.x_m, pose.x_m, 0.02);
+    EXPECT_NEAR(got->pose.y_m, pose.y_m, 0.02);
+  }
+  EXPECT_NEAR(noise[1], noise[0], 0.25 * noise[0]);
+}
+
 TEST(CornerLocatorErrorsTest, BlankImageHasNoCorner) {
   const auto k = testing::PaperCamera();
   const auto got = LocateCorner(cv::Mat(1024, 1280, CV_8UC1, cv::Scalar(128)), k, 1.6);

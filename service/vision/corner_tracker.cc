@@ -54,6 +54,7 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
     return MakeError(ErrorCode::kInvalidArgument, "frame does not match the calibration");
   CornerEdges edges;
   edges.noise_sigma_grey = noise_sigma_grey_;
+  edges.measurement_noise_grey = measurement_noise_grey_;
   edges.sample_spacing_px = options_.spacing_px;
   const Eigen::Vector3d c = CornerToCamera(*last_pose_, Eigen::Vector3d::Zero());
   if (c.z() <= 0) return MakeError(ErrorCode::kNotFound, "the corner left the view");
@@ -118,7 +119,8 @@ Result<CornerLocation> CornerTracker::Process(const cv::Mat& grey) {
   frames_since_detection_ = 0;
   if (detected) {
     last_pose_ = detected->pose;
-    noise_sigma_grey_ = detected->noise_sigma_grey;
+    noise_sigma_grey_ = detected->edges.noise_sigma_grey;
+    measurement_noise_grey_ = detected->edges.measurement_noise_grey;
     detected->source = CornerSource::kDetected;
   } else {
     last_pose_.reset();

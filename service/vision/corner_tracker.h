@@ -53,7 +53,8 @@ class CornerTracker {
   CornerDetectorOptions detector_;
   CornerQualityOptions quality_;
   std::optional<CornerPose> last_pose_;
-  double noise_sigma_grey_ = 0;  // from the last detection; noise changes slowly
+  // From the last detection (CornerEdges' two): noise changes slowly.
+  double noise_sigma_grey_ = 0, measurement_noise_grey_ = 0;
   int frames_since_detection_ = 0;
   std::string fallback_reason_;
 };

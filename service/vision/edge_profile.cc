@@ -6,6 +6,7 @@
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <vector>
 
 namespace monocle {
 namespace {
@@ -59,6 +60,48 @@ double EstimateNoiseSigma(const cv::Mat& grey) {
   }
   // Median of |N(0, 2 sigma^2)| is 0.6745 * sqrt(2) sigma.
   return median / (0.6745 * std::sqrt(2.0));
+}
+
+double EstimateMeasurementNoiseSigma(const cv::Mat& grey) {
+  constexpr int kRun = 8;  // pixels per mean
+  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols < 3 * kRun) return 0;
+  // Second differences of neighbouring means: a linear shading cancels, an edge is one of
+  // many (the median ignores it). For white noise sigma a mean has variance sigma^2 / 8 and
+  // m[i-1] - 2 m[i] + m[i+1] has 6 sigma^2 / 8. They are histogrammed as sums (integers; a
+  // grey level of the means is 8 bins) and the median interpolated within its bin, as in
+  // EstimateNoiseSigma.
+  constexpr int kBins = 1024;  // second differences of sums beyond 1023 (128 grey) are edges
+  std::array<int32_t, kBins> histogram{};
+  int64_t count = 0;
+  const int runs = grey.cols / kRun;
+  const int row_step = grey.rows >= 512 ? 16 : 4;  // 1280x1024: 64 rows, 10 000 differences
+  thread_local std::vector<int32_t> sums;
+  sums.resize(runs);
+  for (int y = row_step / 2; y < grey.rows; y += row_step) {
+    const uint8_t* row = grey.ptr<uint8_t>(y);
+    for (int i = 0; i < runs; ++i) {
+      int32_t sum = 0;
+      for (int j = 0; j < kRun; ++j) sum += row[i * kRun + j];
+      sums[i] = sum;
+    }
+    for (int i = 1; i + 1 < runs; ++i)
+      ++histogram[std::min(std::abs(sums[i - 1] - 2 * sums[i] + sums[i + 1]), kBins - 1)];
+    count += runs - 2;
+  }
+  if (count == 0) return 0;
+  const double half = 0.5 * static_cast<double>(count);
+  double below = 0, median_of_sums = 0;
+  for (int d = 0; d < kBins; ++d) {
+    if (below + histogram[d] >= half) {
+      const double lo = d == 0 ? 0.0 : d - 0.5, width = d == 0 ? 0.5 : 1.0;
+      median_of_sums = lo + width * (half - below) / std::max<double>(histogram[d], 1);
+      break;
+    }
+    below += histogram[d];
+  }
+  // Median of |N(0, 6 sigma^2 / 8)| is 0.6745 sqrt(6 / 8) sigma.
+  const double median_of_means = median_of_sums / kRun;
+  return median_of_means / (0.6745 * std::sqrt(6.0 / kRun));
 }
 
 namespace {
