@@ -73,11 +73,13 @@ In a map (README "Room map"), instead of one corner's frame:
 An image whose pose in the map is not decided counts as failed for the exit status.
 
 Every pose says how well the image supports it: per edge the length found, its contrast
-against the image's noise, and how far its points lie from the pose's line. A pose whose
-edges disagree, or that is weakly determined (1 sigma above 1.5 % of the distance), is
-printed as SUSPECT with the reason; it is never dropped silently. So is a pose that rolls
-the camera more than 45 degrees about its axis (a floor corner read as the ceiling's): a
-camera mounted rolled further sets corner { max_swing: RADIANS } in its calibration file.
+against the image's noise (noise_grey: as an edge measurement averaging pixels sees it, so
+JPEG frames and raw frames read alike), and how far its points lie from the pose's line. A
+pose with an edge fainter than that noise, whose edges disagree, or that is weakly
+determined (1 sigma above 1.5 % of the distance), is printed as SUSPECT with the reason;
+it is never dropped silently. So is a pose that rolls the camera more than 45 degrees
+about its axis (a floor corner read as the ceiling's): a camera mounted rolled further
+sets corner { max_swing: RADIANS } in its calibration file.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --camera ID              the camera's poses as monocled publishes them (same JSON as

@@ -19,7 +19,7 @@ double EstimateNoiseSigma(const cv::Mat& grey);
 // means along rows, so a linear shading cancels and edges are outliers. On a raw image it
 // agrees with EstimateNoiseSigma. Compression (JPEG at quality 70-90) quantizes away most
 // of the pixel-to-pixel noise but little of what averages keep: there EstimateNoiseSigma
-// reads 2-5x low (noise sigma 3 at quality 80: 1.06 against 2.7 here), and a contrast
+// reads 2-5x low (noise sigma 3 at quality 80: 1.07 against 3.4 here), and a contrast
 // against it would say an edge stands out of the noise 2-5x better than it does. This is
 // the noise reported to users and the one an edge's contrast is judged against.
 double EstimateMeasurementNoiseSigma(const cv::Mat& grey);
