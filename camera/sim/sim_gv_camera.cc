@@ -17,6 +17,14 @@
 
 namespace monocle {
 
+std::optional<RealisticLook> SimRealisticLook(const SimCameraOptions& o,
+                                              const CameraIntrinsics& k) {
+  if (!o.realistic) return std::nullopt;
+  RealisticLook look = RandomRealisticLook(o.look_seed, k);
+  if (o.raw) look.jpeg_quality = 0;
+  return look;
+}
+
 Result<std::vector<CornerPose>> ReadTrajectoryFile(const std::string& path) {
   auto text = ReadBoundedFile(path, "trajectory file", kMaxTextFileBytes);
   if (!text) return text.error();
@@ -94,7 +102,7 @@ Result<cv::Mat> RenderRoomFrame(const CameraIntrinsics& k, const SimCameraOption
   }
   RoomScene scene;
   scene.seed = noise_seed;
-  if (o.realistic) scene.realistic = RandomRealisticLook(o.look_seed, k);
+  scene.realistic = SimRealisticLook(o, k);
   return RenderRoomView(k, *room, map_camera, scene);
 }
 
@@ -156,7 +164,7 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
       CornerScene scene;
       scene.noise_sigma = o.noise_sigma;
       scene.seed = 100 + i;
-      if (o.realistic) scene.realistic = RandomRealisticLook(o.look_seed, cam->intrinsics_);
+      scene.realistic = SimRealisticLook(o, cam->intrinsics_);
       cam->frames_.push_back(RenderCornerScene(cam->intrinsics_, cam->corner_poses_[i], scene));
     } else {
       FloorScene scene;

@@ -7,10 +7,12 @@
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "camera/aravis/glib_handles.h"
+#include "camera/render/corner_renderer.h"
 #include "service/common/result.h"
 #include "service/geometry/camera_model.h"
 #include "service/geometry/corner_pose.h"
@@ -35,6 +37,8 @@ struct SimCameraOptions {
   // from `look_seed`: one room, new sensor noise in every frame) instead of the clean look.
   bool realistic = false;
   uint64_t look_seed = 1;
+  // Realistic: frames as a machine-vision camera delivers them, without the JPEG step.
+  bool raw = false;
   // Corner scene: poses to drive through instead of the built-in trajectory.
   std::vector<CornerPose> trajectory;
   // Room scene: the robot drives `base_trajectory` (map frame) through `room_map` with its
@@ -49,6 +53,11 @@ struct SimCameraOptions {
 // The room scene's lens: focal length 700 px at 1280 px wide (about 85 degrees across), a
 // little barrel distortion (idl/examples/wide_camera.pbtxt at 1280 x 1024).
 CameraIntrinsics SimRoomIntrinsics(int width, int height);
+
+// The look of a realistic simulated camera with lens `k` (nothing when `options` asks for the
+// clean look): drawn from options.look_seed, without the JPEG step when options.raw.
+std::optional<RealisticLook> SimRealisticLook(const SimCameraOptions& options,
+                                              const CameraIntrinsics& k);
 
 // Reads a trajectory file: one pose a line, "x,y,z,pan,tilt,swing" (metres, radians, the
 // corner frame of `monocle corner locate`); blank lines and lines starting with # skipped.

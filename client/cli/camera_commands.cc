@@ -47,10 +47,10 @@ simulated cameras.
 constexpr const char* kSimcamHelp =
     R"(Usage: monocle simcam --scene corner|floor [--ip 127.0.0.1] [--serial S] [--width W --height H]
                       [--fps F] [--frames N] [--trajectory FILE] [--truth FILE]
-                      [--calibration-out CAL.pbtxt] [--realistic [--look-seed N]]
+                      [--calibration-out CAL.pbtxt] [--realistic [--look-seed N] [--raw]]
        monocle simcam --scene room --map MAP.pbtxt --mount MOUNT.pbtxt --trajectory FILE
                       [--ip ...] [--fps F] [--truth FILE] [--calibration-out CAL.pbtxt]
-                      [--realistic [--look-seed N]]
+                      [--realistic [--look-seed N] [--raw]]
 
 Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
 frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
@@ -77,6 +77,8 @@ Runs until Ctrl-C (SIGINT) or SIGTERM.
                       8-40 grey levels apart, shading, hot-spot, vignetting, blur, noise,
                       JPEG; see `monocle render corner --help`), one look drawn from
                       --look-seed N (default 1), new noise in every frame
+  --raw               with --realistic: no JPEG step, as a machine-vision camera delivers
+                      its frames
 )";
 
 int Cameras(const std::vector<std::string>& argv) {
@@ -176,7 +178,7 @@ int Simcam(const std::vector<std::string>& argv) {
   auto args = Args::Parse(
       argv, {{"--scene", "--ip", "--serial", "--width", "--height", "--fps", "--frames", "--truth",
               "--calibration-out", "--trajectory", "--look-seed", "--map", "--mount"},
-             {"--realistic"}});
+             {"--realistic", "--raw"}});
   if (!args) return Fail(args.error(), kExitUsage);
   SimCameraOptions o;
   const std::string scene = args->Get("--scene").value_or("");
@@ -197,6 +199,9 @@ int Simcam(const std::vector<std::string>& argv) {
   o.fps = *fps;
   o.trajectory_frames = static_cast<int>(*frames);
   o.realistic = args->Has("--realistic");
+  o.raw = args->Has("--raw");
+  if (o.raw && !o.realistic)
+    return Fail("--raw goes with --realistic (the clean look is not compressed)", kExitUsage);
   const auto look_seed = args->GetDouble("--look-seed", 1);
   if (!look_seed || *look_seed < 0 || *look_seed != std::floor(*look_seed))
     return Fail("--look-seed must be a whole number >= 0", kExitUsage);
@@ -234,6 +239,7 @@ int Simcam(const std::vector<std::string>& argv) {
   std::cerr << "rendering " << (o.scene == SimScene::kFloor ? 2 : poses) << " frames...\n";
   auto cam = SimGvCamera::Start(o);
   if (!cam) return Fail(cam.error(), kExitFailure);
+  if (const auto look = SimRealisticLook(o, (*cam)->intrinsics())) std::cerr << *look << "\n";
   if (const auto truth = args->Get("--truth")) {
     std::ostringstream os;
     os << std::setprecision(12);

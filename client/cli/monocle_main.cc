@@ -37,7 +37,7 @@ Commands:
   intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
       Focal lengths, principal point and lens distortion from several board images.
   render corner --calibration CAL.pbtxt --pose X,Y,Z,PAN,TILT,SWING --out IMG.png
-                [--noise SIGMA] [--seed N] [--clutter] [--lighting] [--realistic]
+                [--noise SIGMA] [--seed N] [--clutter] [--lighting] [--realistic [--raw]]
       Renders a room corner as the camera at that pose sees it.
   render room --map MAP.pbtxt --mount MOUNT.pbtxt --calibration CAL.pbtxt
               (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR) [--realistic]

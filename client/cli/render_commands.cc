@@ -34,7 +34,8 @@ the simulated floor camera.
 
 constexpr const char* kCornerHelp =
     R"(Usage: monocle render corner --calibration CAL.pbtxt --pose X,Y,Z,PAN,TILT,SWING --out IMG.png
-                            [--noise SIGMA] [--seed N] [--clutter] [--lighting] [--realistic]
+                            [--noise SIGMA] [--seed N] [--clutter] [--lighting]
+                            [--realistic [--raw]]
 
 Renders the 8-bit grey image the camera of CAL.pbtxt (intrinsics, with distortion) sees
 of a room corner from the given pose in the corner frame (metres and radians, as
@@ -48,6 +49,8 @@ the two walls are lit differently.
                    surface, a lamp hot-spot, vignetting up to 30 %, defocus blur sigma
                    0.7-1.6 px, sensor noise sigma 2-4, JPEG quality 70-90, all drawn from
                    --seed (the look is printed); --noise, --clutter, --lighting are ignored
+  --raw            with --realistic: no JPEG step, as a machine-vision camera (GigE Vision,
+                   USB3 Vision) delivers its frames
   --noise SIGMA    Gaussian noise, grey levels (default 0); --seed N its seed (default 1)
 )";
 
@@ -57,7 +60,7 @@ int RenderCorner(const std::vector<std::string>& argv) {
     return kExitOk;
   }
   auto args = Args::Parse(argv, {{"--calibration", "--pose", "--out", "--noise", "--seed"},
-                                 {"--clutter", "--lighting", "--realistic"}});
+                                 {"--clutter", "--lighting", "--realistic", "--raw"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (!args->positionals().empty())
     return Fail("unexpected argument '" + args->positionals()[0] + "'", kExitUsage);
@@ -84,8 +87,11 @@ int RenderCorner(const std::vector<std::string>& argv) {
   scene.noise_sigma = *noise;
   scene.seed = static_cast<uint64_t>(*seed);
   scene.room_height_m = std::max(scene.room_height_m, (*v)[2] + 0.3);
+  if (args->Has("--raw") && !args->Has("--realistic"))
+    return Fail("--raw goes with --realistic (the other looks are not compressed)", kExitUsage);
   if (args->Has("--realistic")) {
     scene.realistic = RandomRealisticLook(scene.seed, calibration->intrinsics);
+    if (args->Has("--raw")) scene.realistic->jpeg_quality = 0;
     std::cout << *scene.realistic << "\n";
   }
   const CornerPose pose{(*v)[0], (*v)[1], (*v)[2], (*v)[3], (*v)[4], (*v)[5]};

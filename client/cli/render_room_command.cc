@@ -20,7 +20,7 @@ namespace {
 constexpr const char* kHelp =
     R"(Usage: monocle render room --map MAP.pbtxt --mount MOUNT.pbtxt --calibration CAL.pbtxt
                           (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR)
-                          [--realistic] [--seed N]
+                          [--realistic [--raw]] [--seed N]
 
 Renders what the camera of CAL.pbtxt (intrinsics, with distortion), mounted on the robot as
 MOUNT.pbtxt says, sees inside the room of MAP.pbtxt where the robot stands: the ceiling, every
@@ -34,6 +34,8 @@ wall of the room's outline and the floor, so corners come into and out of view a
                           `render corner --realistic`: low contrast, shading, hot-spot,
                           vignetting, blur, noise, JPEG), drawn from the seed; without it,
                           clean flat greys
+  --raw                   with --realistic: no JPEG step, as a machine-vision camera
+                          delivers its frames
   --seed N                the look's and the noise's seed (default 1); frame k of a
                           trajectory uses N + k
 
@@ -55,7 +57,7 @@ Eigen::Isometry3d MapFromCamera(const BasePose2d& b, const RigidTransform& mount
 }
 
 Result<cv::Mat> RenderAt(const CameraIntrinsics& k, const RoomMap& map, const RigidTransform& mount,
-                         const BasePose2d& base, bool realistic, uint64_t seed) {
+                         const BasePose2d& base, bool realistic, bool raw, uint64_t seed) {
   const Eigen::Isometry3d map_camera = MapFromCamera(base, mount);
   const MapRoom* room = RoomContaining(map, map_camera.translation().head<2>(), 0.01);
   if (room == nullptr) {
@@ -67,6 +69,7 @@ Result<cv::Mat> RenderAt(const CameraIntrinsics& k, const RoomMap& map, const Ri
   RoomScene scene;
   scene.seed = seed;
   if (realistic) scene.realistic = RandomRealisticLook(seed, k);
+  if (realistic && raw) scene.realistic->jpeg_quality = 0;
   return RenderRoomView(k, *room, map_camera, scene);
 }
 
@@ -79,13 +82,15 @@ int RenderRoom(const std::vector<std::string>& argv) {
   }
   auto args = Args::Parse(
       argv, {{"--map", "--mount", "--calibration", "--pose", "--trajectory", "--out", "--seed"},
-             {"--realistic"}});
+             {"--realistic", "--raw"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (!args->positionals().empty())
     return Fail("unexpected argument '" + args->positionals()[0] + "'", kExitUsage);
   for (const char* required : {"--map", "--mount", "--calibration", "--out"}) {
     if (const auto v = args->Require(required); !v) return Fail(v.error(), kExitUsage);
   }
+  if (args->Has("--raw") && !args->Has("--realistic"))
+    return Fail("--raw goes with --realistic (the clean look is not compressed)", kExitUsage);
   const bool one = args->Has("--pose"), many = args->Has("--trajectory");
   if (one == many)
     return Fail("give either --pose X,Y,HEADING_DEG or --trajectory FILE", kExitUsage);
@@ -118,8 +123,9 @@ int RenderRoom(const std::vector<std::string>& argv) {
   }
   ProgressLine progress("rendering", poses.size());
   for (size_t i = 0; i < poses.size(); ++i) {
-    const auto image = RenderAt(calibration->intrinsics, *map, *mount, poses[i],
-                                args->Has("--realistic"), static_cast<uint64_t>(*seed) + i);
+    const auto image =
+        RenderAt(calibration->intrinsics, *map, *mount, poses[i], args->Has("--realistic"),
+                 args->Has("--raw"), static_cast<uint64_t>(*seed) + i);
     if (!image) {
       return Fail(many ? "trajectory pose " + std::to_string(i + 1) + ": " + image.error().message
                        : image.error().message,

@@ -160,6 +160,41 @@ TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
 // A camera mounted rolled 52 degrees about its axis: beyond the default 45 every pose is
 // flagged (a floor corner read as the ceiling's rolls the camera over); corner { max_swing }
 // in its calibration file says how far this camera's mount may roll.
+// `render corner --realistic --raw`: the same white room without the JPEG step, as a GigE or
+// USB3 camera delivers frames. Both are located, and their noise (what each edge's contrast
+// is judged against) is the look's sensor noise in both: JPEG removes the pixel-to-pixel
+// part of the noise, not what an edge measurement averages.
+TEST_F(CornerCliTest, ARawFrameReadsTheSameNoiseAsItsJpeg) {
+  double sensor_noise = 0;
+  std::vector<proto::CornerOutput> out(2);
+  for (int raw = 0; raw < 2; ++raw) {
+    const std::string image = dir_ / (raw ? "raw.png" : "jpeg.png");
+    auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                                  " --pose 2,1.5,1.6,2.2143,0.9,0.1 --realistic --seed 4" +
+                                  (raw ? " --raw" : "") + " --out " + image);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // The printed look: "..., noise 2.9, jpeg 0}" raw, "jpeg 77}" not.
+    const auto noise_at = r.out.find("noise "), jpeg_at = r.out.find("jpeg ");
+    ASSERT_NE(noise_at, std::string::npos) << r.out;
+    ASSERT_NE(jpeg_at, std::string::npos) << r.out;
+    sensor_noise = std::stod(r.out.substr(noise_at + 6));
+    EXPECT_EQ(std::stoi(r.out.substr(jpeg_at + 5)) == 0, raw == 1) << r.out;
+    r = RunMonocle(dir_,
+                   "corner locate " + image + " --calibration " + dir_ / "cal.pbtxt" + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out[raw]).ok()) << r.out;
+    EXPECT_NEAR(out[raw].x(), 2.0, 0.02) << r.out;
+    EXPECT_NEAR(out[raw].noise_grey(), sensor_noise, 0.25 * sensor_noise) << r.out;
+  }
+  EXPECT_NEAR(out[1].noise_grey(), out[0].noise_grey(), 0.25 * out[0].noise_grey());
+  // --raw is a variant of the realistic look only.
+  const auto r =
+      RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                           " --pose 2,1.5,1.6,2.2143,0.9,0.1 --raw --out " + dir_ / "x.png");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--raw goes with --realistic"), std::string::npos) << r.err;
+}
+
 TEST_F(CornerCliTest, ACameraMountedRolledSaysSoInItsCalibration) {
   auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
                                 " --pose 2,1.5,1.6,2.2143,0.9,0.9 --noise 2 --out " +

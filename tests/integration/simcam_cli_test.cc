@@ -7,7 +7,10 @@
 #include <regex>
 #include <thread>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "idl/cli_output.pb.h"
+#include "service/vision/edge_profile.h"
 #include "tests/integration/cli_process.h"
 
 namespace monocle {
@@ -56,6 +59,38 @@ TEST(SimcamCliTest, SnapshotOfTheSimulatedCameraGivesItsGroundTruthPose) {
   EXPECT_NEAR(got.y(), number(wanted, "y"), 0.01 * number(wanted, "y"));
   EXPECT_NEAR(got.tilt(), number(wanted, "tilt"), 0.005);
   EXPECT_EQ(simcam.Stop(), 0) << "simcam exits cleanly on SIGTERM";
+}
+
+// `simcam --realistic --raw`: the white room as a machine-vision camera delivers it, without
+// the JPEG step. The look is printed; the snapshot (over GigE Vision) carries its full pixel
+// noise, which JPEG would have cut 2-5x, and the locator reads the same noise.
+TEST(SimcamCliTest, ARawRealisticCameraSendsItsSensorNoise) {
+  TempDir dir("monocle_simcam_raw");
+  testing::ChildProcess simcam(
+      testing::MonocleBinary(),
+      {"simcam", "--scene", "corner", "--frames", "2", "--realistic", "--raw", "--look-seed", "4",
+       "--calibration-out", dir / "sim.pbtxt"},
+      dir / "simcam.log");
+  for (int i = 0; i < 100 && !std::ifstream(dir / "sim.pbtxt"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
+  const std::string log = testing::ReadFile(dir / "simcam.log");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(log, m, std::regex(R"(noise ([0-9.]+), jpeg (\d+)\})"))) << log;
+  const double sensor_noise = std::stod(m[1]);
+  EXPECT_EQ(m[2].str(), "0") << log;
+  const auto snap = RunMonocle(dir, "snapshot 127.0.0.1 --out " + dir / "snap.png");
+  ASSERT_EQ(snap.exit_code, 0) << snap.err;
+  const cv::Mat frame = cv::imread(dir / "snap.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(frame.empty());
+  EXPECT_NEAR(EstimateNoiseSigma(frame), sensor_noise, 0.2 * sensor_noise) << "pixel noise";
+  const auto located = RunMonocle(
+      dir, "corner locate " + dir / "snap.png" + " --calibration " + dir / "sim.pbtxt" + " --json");
+  ASSERT_EQ(located.exit_code, 0) << located.err << located.out;
+  proto::CornerOutput got;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(located.out, &got).ok()) << located.out;
+  EXPECT_NEAR(got.noise_grey(), sensor_noise, 0.25 * sensor_noise) << located.out;
+  EXPECT_EQ(simcam.Stop(), 0);
 }
 
 TEST(SimcamCliTest, SnapshotOfAnUnknownCameraSaysSo) {
