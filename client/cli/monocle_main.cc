@@ -40,7 +40,8 @@ Commands:
                 [--noise SIGMA] [--seed N] [--clutter] [--lighting] [--realistic [--raw]]
       Renders a room corner as the camera at that pose sees it.
   render room --map MAP.pbtxt --mount MOUNT.pbtxt --calibration CAL.pbtxt
-              (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR) [--realistic]
+              (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR)
+              [--realistic [--raw]]
       Renders what the robot's camera sees in a room of the map, at a pose or along a path.
   render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png
                [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...
