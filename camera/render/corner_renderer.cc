@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <stdexcept>
 
 #include "camera/render/photograph.h"
 #include "camera/render/reference_camera.h"
@@ -166,6 +167,24 @@ double Shade(const Hit& hit, const CornerScene& scene) {
   return std::min(base * light * texture, 250.0);
 }
 
+cv::Mat RenderRadiance(const CameraIntrinsics& k, const CornerPose& pose,
+                       const CornerScene& scene) {
+  const Eigen::Matrix3d corner_from_camera = reference::RotationCameraFromCorner(pose).transpose();
+  const Eigen::Vector3d origin(pose.x_m, pose.y_m, pose.z_m);
+  const bool clutter = scene.clutter && !scene.realistic;
+  return RenderSupersampledView(k, [&](const cv::Point2d& n, int32_t* material) {
+    const Hit hit =
+        CastRay(origin, corner_from_camera * Eigen::Vector3d(n.x, n.y, 1), scene, clutter);
+    *material = hit.material;
+    return Shade(hit, scene);
+  });
+}
+
+PhotoEffects Effects(const RealisticLook& l) {
+  return PhotoEffects{l.vignetting,    l.hotspot_px,  l.hotspot_radius_px, l.hotspot_gain,
+                      l.blur_sigma_px, l.noise_sigma, l.jpeg_quality};
+}
+
 }  // namespace
 
 std::ostream& operator<<(std::ostream& os, const RealisticLook& l) {
@@ -205,22 +224,8 @@ RealisticLook RandomRealisticLook(uint64_t seed, const CameraIntrinsics& k) {
 cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
                           const CornerScene& scene) {
   const int w = k.width_px, h = k.height_px;
-  const Eigen::Matrix3d corner_from_camera = reference::RotationCameraFromCorner(pose).transpose();
-  const Eigen::Vector3d origin(pose.x_m, pose.y_m, pose.z_m);
-  const bool clutter = scene.clutter && !scene.realistic;
-  cv::Mat value = RenderSupersampledView(k, [&](const cv::Point2d& n, int32_t* material) {
-    const Hit hit =
-        CastRay(origin, corner_from_camera * Eigen::Vector3d(n.x, n.y, 1), scene, clutter);
-    *material = hit.material;
-    return Shade(hit, scene);
-  });
-  if (scene.realistic) {
-    const RealisticLook& l = *scene.realistic;
-    return Photograph(value,
-                      PhotoEffects{l.vignetting, l.hotspot_px, l.hotspot_radius_px, l.hotspot_gain,
-                                   l.blur_sigma_px, l.noise_sigma, l.jpeg_quality},
-                      scene.seed);
-  }
+  cv::Mat value = RenderRadiance(k, pose, scene);
+  if (scene.realistic) return Photograph(value, Effects(*scene.realistic), scene.seed);
   if (scene.noise_sigma > 0) {
     cv::Mat noise(h, w, CV_32F);
     cv::RNG rng(scene.seed);
@@ -230,6 +235,13 @@ cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
   cv::Mat out;
   value.convertTo(out, CV_8U);
   return out;
+}
+
+cv::Mat RenderCornerExposure(const CameraIntrinsics& k, const CornerPose& pose,
+                             const CornerScene& scene) {
+  if (!scene.realistic)
+    throw std::invalid_argument("RenderCornerExposure needs the realistic look");
+  return Expose(RenderRadiance(k, pose, scene), Effects(*scene.realistic));
 }
 
 }  // namespace monocle

@@ -66,4 +66,9 @@ struct CornerScene {
 cv::Mat RenderCornerScene(const CameraIntrinsics& intrinsics, const CornerPose& pose,
                           const CornerScene& scene);
 
+// The realistic look's light on the sensor (CV_32F grey levels): what RenderCornerScene
+// returns before noise, rounding to 8 bits and JPEG. Needs scene.realistic.
+cv::Mat RenderCornerExposure(const CameraIntrinsics& intrinsics, const CornerPose& pose,
+                             const CornerScene& scene);
+
 }  // namespace monocle

@@ -6,7 +6,7 @@
 
 namespace monocle {
 
-cv::Mat Photograph(const cv::Mat& radiance, const PhotoEffects& look, uint64_t seed) {
+cv::Mat Expose(const cv::Mat& radiance, const PhotoEffects& look) {
   const int w = radiance.cols, h = radiance.rows;
   cv::Mat lit(h, w, CV_32F);
   const double half_diagonal2 = 0.25 * (w * w + h * h);
@@ -26,6 +26,12 @@ cv::Mat Photograph(const cv::Mat& radiance, const PhotoEffects& look, uint64_t s
   if (look.blur_sigma_px > 0)
     cv::GaussianBlur(lit, lit, cv::Size(), look.blur_sigma_px, look.blur_sigma_px,
                      cv::BORDER_REFLECT);
+  return lit;
+}
+
+cv::Mat Photograph(const cv::Mat& radiance, const PhotoEffects& look, uint64_t seed) {
+  cv::Mat lit = Expose(radiance, look);
+  const int w = lit.cols, h = lit.rows;
   if (look.noise_sigma > 0) {
     cv::Mat noise(h, w, CV_32F);
     cv::RNG rng(seed);

@@ -21,4 +21,9 @@ struct PhotoEffects {
 // `radiance`: CV_32F grey levels. Returns the 8-bit image the camera delivers.
 cv::Mat Photograph(const cv::Mat& radiance, const PhotoEffects& effects, uint64_t seed);
 
+// The light on the sensor, CV_32F grey levels: vignetting, hot-spot and blur, before noise,
+// rounding and JPEG. Photograph's image is this plus noise, rounded, compressed. For tests
+// that differentiate a render with respect to the pose, where rounding would add noise.
+cv::Mat Expose(const cv::Mat& radiance, const PhotoEffects& effects);
+
 }  // namespace monocle
