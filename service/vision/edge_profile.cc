@@ -108,6 +108,19 @@ namespace {
 
 constexpr int kAlong = 3;  // profiles averaged over +-3 px along the edge
 constexpr int kStep = 3;   // the step is measured between +-3 px of the edge
+
+// Whether a profile at p, reaching r px along the normal n and kAlong px along the edge d,
+// is sampled from pixels inside the image (bilinear reads the next pixel too). Exact for the
+// profile's rectangle, so an edge is measured up to a few pixels from the border it leaves
+// by, not a fixed margin in every direction: on a short edge those last pixels are a good
+// part of what fixes its direction.
+bool ProfileInside(const cv::Mat& grey, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+                   const Eigen::Vector2d& d, int r) {
+  const double reach_x = r * std::abs(n.x()) + kAlong * std::abs(d.x()) + 0.01;
+  const double reach_y = r * std::abs(n.y()) + kAlong * std::abs(d.y()) + 0.01;
+  return p.x() - reach_x >= 0 && p.y() - reach_y >= 0 && p.x() + reach_x < grey.cols - 1 &&
+         p.y() + reach_y < grey.rows - 1;
+}
 // A side averaging this close to 255 (or 0) is (partly) clipped: with noise, many of its
 // pixels are saturated. (254 kept points beside partly clipped walls, still biased.)
 constexpr float kClippedWhite = 250.0f, kClippedBlack = 5.0f;
@@ -213,16 +226,12 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
   // The profile reaches past the search window as far as PeakOfProfile reads: the step's
   // sides (kStep + 1 from a peak inside the window) and the filter around its edge.
   const int r = search + std::max(kStep, kernel.Reach() + 1);
-  const double reach = std::hypot(r, kAlong) + 2;
   std::vector<float> profile(2 * r + 1);
   for (size_t i = 0; i < positions.size(); ++i) {
     const Eigen::Vector2d& p = positions[i];
     const Eigen::Vector2d& n = normals[i];
-    if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
-        p.y() > grey.rows - 1 - reach) {
-      continue;
-    }
     const Eigen::Vector2d t(-n.y(), n.x());
+    if (!ProfileInside(grey, p, n, t, r)) continue;
     for (int o = -r; o <= r; ++o) {
       float sum = 0;
       for (int a = -kAlong; a <= kAlong; ++a) {
@@ -250,7 +259,6 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
   // The profile reaches past the search window as far as PeakOfProfile reads: the step's
   // sides (kStep + 1 from a peak inside the window) and the filter around its edge.
   const int r = search + std::max(kStep, kernel.Reach() + 1);
-  const double reach = std::hypot(r, kAlong) + 2;
   const Eigen::Vector2d d = direction.normalized();
   const Eigen::Vector2d n(-d.y(), d.x());
   // Patch coordinates: column c along the edge, row o across it; image point =
@@ -332,10 +340,7 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
   constexpr float kScale = 1.0f / (2 * kAlong + 1);
   for (int i = 0; i < count; ++i) {
     const Eigen::Vector2d p = start + static_cast<double>(i * spacing_px) * d;
-    if (p.x() < reach || p.y() < reach || p.x() > grey.cols - 1 - reach ||
-        p.y() > grey.rows - 1 - reach) {
-      continue;
-    }
+    if (!ProfileInside(grey, p, n, d, r)) continue;
     const int c0 = i * spacing_px;
     for (int o = 0; o < height; ++o) {
       const float* row = &patch[static_cast<size_t>(o) * width + c0];

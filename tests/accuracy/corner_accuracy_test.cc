@@ -238,16 +238,17 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // NOT MET YET: the issue asks p95 <= 1 %. Measured 0.75-1.9 % over all poses and
-  // 0.74-1.01 % over the poses not flagged suspect (views with one short edge are weakly
+  // NOT MET YET: the issue asks p95 <= 1 %. Measured 0.68-2.5 % over all poses and
+  // 0.60-1.14 % over the poses not flagged suspect (views with one short edge are weakly
   // determined; the worst say so with a 1 sigma of 2-6 %). Gated at ~2x the worst measured so
   // it cannot slip.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.02);
-  // Why p95 <= 1 % is out of reach here: 7-14 % of these views report a 1 sigma over 1 % of
-  // the distance, and the reported 1 sigma predicts at least as many poses more than 1 % off
-  // as there are (printed: 7 with 9.3 predicted on seed 2611, 2 with 4.5 on seed 90210). Not
-  // asserted: with ~70 views the count cannot tell a 1 sigma halved from an honest one (halved, it
-  // predicts 4.5 and 1.6); the coverage check below can.
+  // Why p95 <= 1 % is not met: 7-14 % of these views report a 1 sigma over 1 % of the
+  // distance, and the reported 1 sigma predicts about as many poses more than 1 % off as
+  // there are. The Cramér–Rao bound (printed) says what any estimator could do from the same
+  // edges: an efficient one would reach p95 0.35-0.89 % on the seeds measured, so the goal is
+  // within the information but needs the weak views measured near the bound; ours are 1.2-1.7x
+  // the bound's median (README, "What the edges allow").
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
   // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors (measured 70 / 71 % on the
@@ -270,7 +271,9 @@ TEST(CornerAccuracyTest, RealisticRooms) {
   // 0.024 / 0.45 deg, pan 0.037 deg, swing 0.019 deg); the median's gate is the goal above.
   // Since edge points beside clipped (saturated) walls are refused: p95 1.9 %, tilt p95
   // 0.39 deg, 70 of 72 located (two views' edges lie wholly beside clipped walls). Since a
-  // wall-wall edge may start off the corner: p95 1.5 %, tilt p95 0.37 deg.
+  // wall-wall edge may start off the corner: p95 1.5 %, tilt p95 0.37 deg. Since edge points
+  // are weighted by their contrast: median 0.114 -> 0.102 %, p95 1.67 -> 2.46 % (four of its
+  // flagged views, 1 sigma 2-5.6 %, drew errors of 1.5-3.3 %), tilt p95 0.36 deg.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.035);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
@@ -401,10 +404,10 @@ TEST(CornerAccuracyTest, AFloorCornerTakenForTheCeilingsIsSuspect) {
 
 // View 20 of realistic seed 271828 (a fresh seed, run once): a camera 5.9 m from one wall and
 // 0.3 m from the other, tilt 65 degrees. The corner determines its distance weakly, and it
-// says so: a 1 sigma of 1.6-1.7 % of the distance. The pose is 5.3-5.6 % off, 3.1-3.4 sigma,
-// which an honest 1 sigma allows now and then. A pose whose 1 sigma is above 1.5 % of the
-// distance (5 % within 3.3 sigma) is flagged (CornerQualityOptions::max_relative_sigma); at
-// the old limit, 2 %, it was not.
+// says so: a 1 sigma of 1.6-1.8 % of the distance. The pose was 5.3-5.6 % off, 3.1-3.4 sigma,
+// which an honest 1 sigma allows now and then (4.5 % since edge points are weighted by their
+// contrast). A pose whose 1 sigma is above 1.5 % of the distance (5 % within 3.3 sigma) is
+// flagged (CornerQualityOptions::max_relative_sigma); at the old limit, 2 %, it was not.
 TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
   const CameraIntrinsics k = testing::PaperCamera();
   const RealisticView view = RenderRealisticView(k, 271828, 20);
@@ -412,7 +415,7 @@ TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
   old_limit.max_relative_sigma = 0.02;
   const auto unflagged = LocateCorner(view.image, k, view.truth.z_m, {}, old_limit);
   ASSERT_TRUE(unflagged.ok()) << unflagged.error();
-  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), 0.05);
+  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), 0.04);
   EXPECT_FALSE(unflagged->suspect) << unflagged->suspect_reason;
   const auto got = LocateCorner(view.image, k, view.truth.z_m);
   ASSERT_TRUE(got.ok()) << got.error();
