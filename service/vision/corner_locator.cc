@@ -70,7 +70,7 @@ double BeyondGapLeverage(const LineFit& fit, const Eigen::Vector2d& corner, doub
 // a white room's edge that contrast fades and grows with shading, vignetting and the lamp's
 // hot-spot. Equal weights let the faded stretches' noisy points set the direction. Measured
 // across 16 noise draws of single views (corner_accuracy_test's development harness), the
-// pose scatter fell by up to a third where the contrast varies along an edge, and did not
+// pose scatter fell by up to two fifths where the contrast varies along an edge, and did not
 // grow elsewhere. Distances are compared with the rejection threshold in weighted units.
 std::optional<LineFit> RobustLineFit(std::vector<Eigen::Vector2d> pts, std::vector<double> steps,
                                      double floor_sigma) {
