@@ -122,27 +122,34 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   const auto* sin_table = &tables[1];
   const int d = static_cast<int>(std::ceil(std::hypot(w, h))) + 2;
   const int rho_bins = 2 * d + 1;
-  // 16-bit counts: half the memory to clear each frame; a line has far fewer than 65535 votes.
-  std::vector<uint16_t> acc(static_cast<size_t>(kAngleBins) * rho_bins, 0);
+  // 16-bit counts (a line has far fewer than 65535 votes), kept per thread and left all
+  // zero after each use: allocated per frame, its 0.7-1.5 MB came from fresh pages, whose
+  // faults and zeroing cost more than all the votes (ForEachVote clears the cells it set).
+  thread_local std::vector<uint16_t> acc;
+  acc.resize(std::max(acc.size(), static_cast<size_t>(kAngleBins) * rho_bins), 0);
+  auto for_each_vote = [&](auto&& vote) {
+    for (const auto& e : edges) {
+      double alpha = e.angle;
+      if (alpha < 0) alpha += kPi;
+      const int a0 = static_cast<int>(std::lround(alpha / kPi * kAngleBins));
+      // rho + d + 0.5 > 0 always, so truncation rounds (std::lround was a third of the time).
+      const float x = e.x, y = e.y, offset = static_cast<float>(d) + 0.5f;
+      for (int da = -e.vote_half_window; da <= e.vote_half_window; ++da) {
+        int a = a0 + da;
+        if (a < 0) a += kAngleBins;
+        if (a >= kAngleBins) a -= kAngleBins;
+        const float rho = x * (*cos_table)[a] + y * (*sin_table)[a];
+        vote(static_cast<size_t>(a) * rho_bins + static_cast<int>(rho + offset));
+      }
+    }
+  };
   const int candidate_votes = std::max(1, min_votes / 3);
   std::vector<size_t> candidates;
-  for (const auto& e : edges) {
-    double alpha = e.angle;
-    if (alpha < 0) alpha += kPi;
-    const int a0 = static_cast<int>(std::lround(alpha / kPi * kAngleBins));
-    // rho + d + 0.5 > 0 always, so truncation rounds (std::lround was a third of the time).
-    const float x = e.x, y = e.y, offset = static_cast<float>(d) + 0.5f;
-    for (int da = -e.vote_half_window; da <= e.vote_half_window; ++da) {
-      int a = a0 + da;
-      if (a < 0) a += kAngleBins;
-      if (a >= kAngleBins) a -= kAngleBins;
-      const float rho = x * (*cos_table)[a] + y * (*sin_table)[a];
-      const size_t cell = static_cast<size_t>(a) * rho_bins + static_cast<int>(rho + offset);
-      // A peak of H' >= min_votes needs a cell of H >= min_votes / 3: remember those as they
-      // arise instead of scanning the whole accumulator afterwards.
-      if (++acc[cell] == candidate_votes) candidates.push_back(cell);
-    }
-  }
+  // A peak of H' >= min_votes needs a cell of H >= min_votes / 3: remember those as they
+  // arise instead of scanning the whole accumulator afterwards.
+  for_each_vote([&](size_t cell) {
+    if (++acc[cell] == candidate_votes) candidates.push_back(cell);
+  });
   auto smoothed = [&](int a, int r) {
     a = (a % kAngleBins + kAngleBins) % kAngleBins;  // wrapping in angle flips rho; close enough
     if (r < 1 || r >= rho_bins - 1) return 0;
@@ -178,6 +185,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
       if (is_max) peaks.push_back({a, r - d, v});
     }
   }
+  for_each_vote([&](size_t cell) { acc[cell] = 0; });
   // Most votes first; equal votes in cell order, so the result does not depend on the
   // order the candidates arose in.
   std::sort(peaks.begin(), peaks.end(), [](const HoughPeak& x, const HoughPeak& y) {
@@ -312,24 +320,27 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
   // length) of the corner, so two segments of one Y have ends within 8.5 radii plus 0.3 of
   // their lengths of each other: pairs that do not are never looked at again (this prunes
   // the n^3 search to a few triples).
-  std::vector<std::vector<bool>> may_meet(n, std::vector<bool>(n, false));
+  // Each segment's partners with a higher index, in increasing order.
+  std::vector<std::array<Eigen::Vector2d, 2>> ends(n);
+  for (int i = 0; i < n; ++i) ends[i] = {segments[i].End(0), segments[i].End(1)};
+  std::vector<std::vector<int>> partners(n);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      double closest = std::numeric_limits<double>::infinity();
+      if (segments[j].line == segments[i].line) continue;
+      const double reach = 8.5 * junction_radius + 0.3 * (segments[i].t1 - segments[i].t0 +
+                                                          segments[j].t1 - segments[j].t0);
+      double closest2 = std::numeric_limits<double>::infinity();
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
-          closest = std::min(closest, (segments[i].End(a) - segments[j].End(b)).norm());
-      may_meet[i][j] = may_meet[j][i] =
-          segments[j].line != segments[i].line &&
-          closest <= 8.5 * junction_radius +
-                         0.3 * (segments[i].t1 - segments[i].t0 + segments[j].t1 - segments[j].t0);
+          closest2 = std::min(closest2, (ends[i][a] - ends[j][b]).squaredNorm());
+      if (closest2 <= reach * reach) partners[i].push_back(j);
     }
   }
   for (int i = 0; i < n; ++i) {
-    for (int j = i + 1; j < n; ++j) {
-      if (!may_meet[i][j]) continue;
-      for (int k = j + 1; k < n; ++k) {
-        if (!may_meet[i][k] || !may_meet[j][k]) continue;
+    for (const int j : partners[i]) {
+      // k among both i's and j's partners (both lists are sorted).
+      for (const int k : partners[j]) {
+        if (!std::binary_search(partners[i].begin(), partners[i].end(), k)) continue;
         const std::array<const Segment*, 3> s{&segments[i], &segments[j], &segments[k]};
         // The corner: the point closest to all three lines. (Pairwise intersections slide
         // far along two nearly collinear edges, which a Y often has.)

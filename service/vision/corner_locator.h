@@ -53,6 +53,10 @@ struct CornerLocation {
   // trust (see `suspect_reason`). Still a pose; never silently dropped or silently trusted.
   bool suspect = false;
   std::string suspect_reason;
+  // Suspect only because the view fixes the position weakly (its 1 sigma is over
+  // CornerQualityOptions::max_relative_sigma): the edges agree with the pose and with each
+  // other, so no other Y in the image would be the better answer.
+  bool suspect_only_imprecise = false;
   CornerSource source = CornerSource::kDetected;
   CornerEdges edges;  // what the detector saw (overlays)
 

@@ -483,11 +483,35 @@ TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
       << got->suspect_reason;
 }
 
+// The same view: its quarter-resolution pose is flagged only because the view fixes the
+// position weakly; its edges agree with it. A search at half resolution finds the same Y, and
+// its edges are measured at full resolution either way, so it is not run: the quarter's pose
+// is kept. That the half search would agree within the pose's own 1 sigma is checked too.
+TEST(CornerAccuracyTest, APoseFlaggedOnlyAsImpreciseIsNotSearchedAgain) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  const RealisticView view = RenderRealisticView(k, 271828, 20);
+  const auto got = LocateCorner(view.image, k, view.truth.z_m);
+  ASSERT_TRUE(got.ok()) << got.error();
+  EXPECT_TRUE(got->suspect);
+  EXPECT_TRUE(got->suspect_only_imprecise) << got->suspect_reason;
+  EXPECT_EQ(got->suspect_reason.find(';'), std::string::npos) << got->suspect_reason;
+  EXPECT_EQ(got->edges.detection_scale, 0.25);
+  CornerDetectorOptions half_only;
+  half_only.quarter_resolution_first = false;
+  const auto half = LocateCorner(view.image, k, view.truth.z_m, half_only);
+  ASSERT_TRUE(half.ok()) << half.error();
+  const double apart_m = std::hypot(got->pose.x_m - half->pose.x_m, got->pose.y_m - half->pose.y_m);
+  const double sigma_h = std::sqrt(got->covariance(0, 0) + got->covariance(1, 1));
+  std::cout << "  quarter and half searches " << 1000 * apart_m << " mm apart, 1 sigma "
+            << 1000 * sigma_h << " mm\n";
+  EXPECT_LT(apart_m, sigma_h);
+}
+
 // View 3 of the cluttered set (seed 2024): the quarter-resolution search finds the corner,
 // the half-resolution search alone finds no Y that makes a pose. When the quarter's pose is
-// flagged (here every pose is, by an impossibly strict limit on its 1 sigma), the half-
-// resolution search is asked again; finding nothing, it must not lose the view: the quarter's
-// pose stands, still flagged.
+// flagged for its edges (here every pose is, by asking each edge to be found beyond its
+// whole visible length), the half-resolution search is asked again; finding nothing, it must
+// not lose the view: the quarter's pose stands, still flagged.
 TEST(CornerAccuracyTest, AFlaggedCoarsePoseStandsWhenTheFinerSearchFindsNone) {
   const CameraIntrinsics k = testing::PaperCamera();
   std::mt19937_64 rng(2024);
@@ -501,11 +525,12 @@ TEST(CornerAccuracyTest, AFlaggedCoarsePoseStandsWhenTheFinerSearchFindsNone) {
   ASSERT_FALSE(LocateCorner(image, k, truth->z_m, half_only).ok())
       << "the half-resolution search alone finds a pose here";
   CornerQualityOptions strict;
-  strict.max_relative_sigma = 1e-9;
+  strict.min_coverage = 1.01;
   const auto got = LocateCorner(image, k, truth->z_m, {}, strict);
   ASSERT_TRUE(got.ok()) << got.error();
   EXPECT_EQ(got->edges.detection_scale, 0.25);
   EXPECT_TRUE(got->suspect);
+  EXPECT_FALSE(got->suspect_only_imprecise) << got->suspect_reason;
   EXPECT_LT(RelativeHorizontalError(*got, *truth), 0.01);
 }
 
