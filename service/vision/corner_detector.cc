@@ -124,7 +124,8 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   const int rho_bins = 2 * d + 1;
   // 16-bit counts (a line has far fewer than 65535 votes), kept per thread and left all
   // zero after each use: allocated per frame, its 0.7-1.5 MB came from fresh pages, whose
-  // faults and zeroing cost more than all the votes (ForEachVote clears the cells it set).
+  // faults and zeroing cost more than all the votes. Cleared afterwards by voting again
+  // (setting zeros) when there are few votes, by zeroing it all when there are many.
   thread_local std::vector<uint16_t> acc;
   acc.resize(std::max(acc.size(), static_cast<size_t>(kAngleBins) * rho_bins), 0);
   auto for_each_vote = [&](auto&& vote) {
@@ -147,7 +148,9 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   std::vector<size_t> candidates;
   // A peak of H' >= min_votes needs a cell of H >= min_votes / 3: remember those as they
   // arise instead of scanning the whole accumulator afterwards.
+  size_t votes = 0;
   for_each_vote([&](size_t cell) {
+    ++votes;
     if (++acc[cell] == candidate_votes) candidates.push_back(cell);
   });
   auto smoothed = [&](int a, int r) {
@@ -185,7 +188,13 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
       if (is_max) peaks.push_back({a, r - d, v});
     }
   }
-  for_each_vote([&](size_t cell) { acc[cell] = 0; });
+  // A vote costs about as much as zeroing 40 cells.
+  const size_t cells = static_cast<size_t>(kAngleBins) * rho_bins;
+  if (votes * 40 < cells) {
+    for_each_vote([&](size_t cell) { acc[cell] = 0; });
+  } else {
+    std::fill(acc.begin(), acc.begin() + static_cast<std::ptrdiff_t>(cells), 0);
+  }
   // Most votes first; equal votes in cell order, so the result does not depend on the
   // order the candidates arose in.
   std::sort(peaks.begin(), peaks.end(), [](const HoughPeak& x, const HoughPeak& y) {
@@ -320,10 +329,12 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
   // length) of the corner, so two segments of one Y have ends within 8.5 radii plus 0.3 of
   // their lengths of each other: pairs that do not are never looked at again (this prunes
   // the n^3 search to a few triples).
-  // Each segment's partners with a higher index, in increasing order.
+  // Each segment's partners with a higher index, in increasing order, and the same as a
+  // flat n x n table.
   std::vector<std::array<Eigen::Vector2d, 2>> ends(n);
   for (int i = 0; i < n; ++i) ends[i] = {segments[i].End(0), segments[i].End(1)};
   std::vector<std::vector<int>> partners(n);
+  std::vector<uint8_t> meets(static_cast<size_t>(n) * n, 0);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       if (segments[j].line == segments[i].line) continue;
@@ -333,14 +344,16 @@ std::vector<YTriple> FindYCandidates(const std::vector<Segment>& segments, int w
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
           closest2 = std::min(closest2, (ends[i][a] - ends[j][b]).squaredNorm());
-      if (closest2 <= reach * reach) partners[i].push_back(j);
+      if (closest2 <= reach * reach) {
+        partners[i].push_back(j);
+        meets[static_cast<size_t>(i) * n + j] = 1;
+      }
     }
   }
   for (int i = 0; i < n; ++i) {
     for (const int j : partners[i]) {
-      // k among both i's and j's partners (both lists are sorted).
-      for (const int k : partners[j]) {
-        if (!std::binary_search(partners[i].begin(), partners[i].end(), k)) continue;
+      for (const int k : partners[j]) {  // k > j meets j; it must meet i too
+        if (!meets[static_cast<size_t>(i) * n + k]) continue;
         const std::array<const Segment*, 3> s{&segments[i], &segments[j], &segments[k]};
         // The corner: the point closest to all three lines. (Pairwise intersections slide
         // far along two nearly collinear edges, which a Y often has.)
