@@ -59,8 +59,7 @@ Eigen::Vector2d ProjectToPixel(const CameraIntrinsics& k, const Eigen::Vector3d&
 
 std::optional<Eigen::Vector2d> PixelToNormalized(const CameraIntrinsics& k,
                                                  const Eigen::Vector2d& pixel,
-                                                 Eigen::Matrix2d* jacobian,
-                                                 const Eigen::Vector2d* start) {
+                                                 Eigen::Matrix2d* jacobian) {
   const Eigen::Vector2d target((pixel.x() - k.cx) / k.fx, (pixel.y() - k.cy) / k.fy);
   if (!k.HasDistortion()) {
     if (jacobian != nullptr) *jacobian << 1 / k.fx, 0, 0, 1 / k.fy;
@@ -68,7 +67,7 @@ std::optional<Eigen::Vector2d> PixelToNormalized(const CameraIntrinsics& k,
   }
   // Newton on Distort(n) = target, starting from the distorted point itself; the model is
   // smooth and near-identity over a real lens's field, so a handful of steps suffice.
-  Eigen::Vector2d n = start != nullptr && start->allFinite() ? *start : target;
+  Eigen::Vector2d n = target;
   Eigen::Matrix2d j;
   constexpr int kMaxIterations = 30;
   for (int i = 0; i < kMaxIterations; ++i) {

@@ -68,13 +68,10 @@ Eigen::Vector2d NormalizedToPixel(const CameraIntrinsics& k, const Eigen::Vector
 Eigen::Vector2d ProjectToPixel(const CameraIntrinsics& k, const Eigen::Vector3d& p_camera);
 
 // Pixel -> normalized (undistorted) coordinates by Newton's method on the distortion
-// model; converges to ~1e-15. Optionally returns d(normalized)/d(pixel). `start`: where
-// Newton begins (default: the distorted point itself); a close start (an UndistortionGrid's
-// value) saves half the steps and converges to the same root.
+// model; converges to ~1e-15. Optionally returns d(normalized)/d(pixel).
 // Empty when the pixel lies where the distortion model is not invertible.
 std::optional<Eigen::Vector2d> PixelToNormalized(const CameraIntrinsics& k,
                                                  const Eigen::Vector2d& pixel,
-                                                 Eigen::Matrix2d* jacobian = nullptr,
-                                                 const Eigen::Vector2d* start = nullptr);
+                                                 Eigen::Matrix2d* jacobian = nullptr);
 
 }  // namespace monocle

@@ -35,25 +35,6 @@ TEST(CameraModelTest, UndistortInvertsDistortToMachinePrecision) {
   }
 }
 
-// Started near the answer (as the corner locator starts it, from the undistortion grid, or a
-// point 0.02 px off it), Newton lands on the same root as from the distorted point.
-TEST(CameraModelTest, UndistortFromAStartNearbyGivesTheSameRoot) {
-  std::mt19937_64 rng(11);
-  for (const auto& k : {testing::PaperCamera(), WideAngleCamera(), RationalCamera()}) {
-    std::uniform_real_distribution<double> u(0, k.width_px - 1), v(0, k.height_px - 1);
-    std::uniform_real_distribution<double> off(-0.02, 0.02);
-    for (int i = 0; i < 500; ++i) {
-      const Eigen::Vector2d px(u(rng), v(rng));
-      const auto plain = PixelToNormalized(k, px);
-      ASSERT_TRUE(plain.has_value());
-      const Eigen::Vector2d start = *plain + Eigen::Vector2d(off(rng) / k.fx, off(rng) / k.fy);
-      const auto started = PixelToNormalized(k, px, nullptr, &start);
-      ASSERT_TRUE(started.has_value());
-      EXPECT_LT((*started - *plain).norm() * k.fx, 1e-10) << k << " px " << px.transpose();
-    }
-  }
-}
-
 TEST(CameraModelTest, ProjectionMatchesOpenCv) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> xy(-0.45, 0.45), z(0.5, 5);

@@ -1,5 +1,6 @@
 #include "service/geometry/undistortion_grid.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -48,6 +49,27 @@ Eigen::Vector2d UndistortionGrid::Undistort(const Eigen::Vector2d& px,
     jacobian->col(1) = ((1 - fx) * (c - a) + fx * (d - b)) / cell_px_;
   }
   return (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
+}
+
+std::optional<Eigen::Vector2d> UndistortionGrid::Normalized(const Eigen::Vector2d& px) const {
+  const double gx = px.x() / cell_px_ + 1, gy = px.y() / cell_px_ + 1;
+  if (!(gx >= 0 && gy >= 0 && gx <= nodes_x_ - 1 && gy <= nodes_y_ - 1))
+    return PixelToNormalized(k_, px);
+  const int i = std::min(static_cast<int>(gx), nodes_x_ - 2);
+  const int j = std::min(static_cast<int>(gy), nodes_y_ - 2);
+  const Eigen::Vector2d* row0 = &undistorted_px_[static_cast<size_t>(j) * nodes_x_ + i];
+  const Eigen::Vector2d* row1 = row0 + nodes_x_;
+  if (!(row0[0].allFinite() && row0[1].allFinite() && row1[0].allFinite() && row1[1].allFinite())) {
+    return PixelToNormalized(k_, px);
+  }
+  const Eigen::Vector2d u = Undistort(px);
+  const Eigen::Vector2d start((u.x() - k_.cx) / k_.fx, (u.y() - k_.cy) / k_.fy);
+  const Eigen::Vector2d target((px.x() - k_.cx) / k_.fx, (px.y() - k_.cy) / k_.fy);
+  Eigen::Matrix2d jacobian;
+  const Eigen::Vector2d residual = Distort(k_, start, &jacobian) - target;
+  // Beyond the fold of the polynomial the model is not the lens (PixelToNormalized says so).
+  if (!(jacobian.determinant() > 1e-9)) return PixelToNormalized(k_, px);
+  return Eigen::Vector2d(start - jacobian.inverse() * residual);
 }
 
 const UndistortionGrid& UndistortionGridFor(const CameraIntrinsics& k) {
