@@ -576,8 +576,9 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
   int misses = 0;                   // chunks in a row without a point
   // A long gap (contrast fading where shading evens the two surfaces out) is crossed on the
   // last line; the trace ends at the border or after 8 empty chunks.
+  std::vector<Eigen::Vector2d> positions;
   while (misses < 8) {
-    std::vector<Eigen::Vector2d> positions;
+    positions.clear();
     bool inside = true;
     for (double s = 0; s < kChunk; s += kSpacing, t += kSpacing) {
       const Eigen::Vector2d p = origin + t * direction;
@@ -595,17 +596,25 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
     misses = chunk.empty() ? misses + 1 : 0;
     found.insert(found.end(), chunk.begin(), chunk.end());
     if (!inside) break;
-    // Refit on the recent points: total least squares.
+    // Refit on the recent points (within kMemory of the line's end): total least squares,
+    // in two passes over the points rather than a copy of them.
     const Eigen::Vector2d last = origin + t * direction;
-    std::vector<Eigen::Vector2d> recent;
-    for (const auto& f : found)
-      if ((f.point_px - last).norm() < kMemory) recent.push_back(f.point_px);
-    if (recent.size() < 8) continue;
+    auto recent = [&](const EdgePointSample& f) {
+      return (f.point_px - last).squaredNorm() < kMemory * kMemory;
+    };
+    size_t count = 0;
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const auto& q : recent) mean += q;
-    mean /= static_cast<double>(recent.size());
+    for (const auto& f : found) {
+      if (!recent(f)) continue;
+      mean += f.point_px;
+      ++count;
+    }
+    if (count < 8) continue;
+    mean /= static_cast<double>(count);
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (const auto& q : recent) scatter += (q - mean) * (q - mean).transpose();
+    for (const auto& f : found) {
+      if (recent(f)) scatter += (f.point_px - mean) * (f.point_px - mean).transpose();
+    }
     const double angle = 0.5 * std::atan2(2 * scatter(0, 1), scatter(0, 0) - scatter(1, 1));
     Eigen::Vector2d fitted(std::cos(angle), std::sin(angle));
     if (fitted.dot(direction) < 0) fitted = -fitted;
