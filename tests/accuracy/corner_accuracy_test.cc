@@ -273,7 +273,9 @@ TEST(CornerAccuracyTest, RealisticRooms) {
   // 0.39 deg, 70 of 72 located (two views' edges lie wholly beside clipped walls). Since a
   // wall-wall edge may start off the corner: p95 1.5 %, tilt p95 0.37 deg. Since edge points
   // are weighted by their contrast: median 0.114 -> 0.102 %, p95 1.67 -> 2.46 % (four of its
-  // flagged views, 1 sigma 2-5.6 %, drew errors of 1.5-3.3 %), tilt p95 0.36 deg.
+  // flagged views, 1 sigma 2-5.6 %, drew errors of 1.5-3.3 %), tilt p95 0.36 deg. Since a
+  // pose flagged only as imprecise is not searched again at half resolution: median 0.115 %
+  // (one flagged view crossed the middle), p95 2.58 %.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.035);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
