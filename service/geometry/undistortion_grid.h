@@ -7,9 +7,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <vector>
-
 #include <optional>
+#include <vector>
 
 #include "service/geometry/camera_model.h"
 
