@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "service/io/image_file.h"
 
@@ -15,7 +14,7 @@ Result<std::unique_ptr<FileSource>> FileSource::Open(const std::vector<std::stri
   std::error_code ec;
   if (paths.size() == 1 && std::filesystem::is_directory(paths[0], ec)) {
     for (const auto& e : std::filesystem::directory_iterator(paths[0], ec)) {
-      if (e.is_regular_file() && cv::haveImageReader(e.path().string()))
+      if (e.is_regular_file() && LooksLikeImageFile(e.path().string()))
         src->files_.push_back(e.path().string());
     }
     std::sort(src->files_.begin(), src->files_.end());

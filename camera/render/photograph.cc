@@ -1,8 +1,9 @@
 #include "camera/render/photograph.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
+
+#include "service/io/image_codec.h"
 
 namespace monocle {
 
@@ -41,9 +42,15 @@ cv::Mat Photograph(const cv::Mat& radiance, const PhotoEffects& look, uint64_t s
   cv::Mat grey;
   lit.convertTo(grey, CV_8U);  // rounds and saturates
   if (look.jpeg_quality > 0) {
-    std::vector<uint8_t> jpeg;
-    cv::imencode(".jpg", grey, jpeg, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});
-    grey = cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE);
+    // Through libjpeg as OpenCV's imencode / imdecode would (image_codec_test checks the
+    // bytes are the same).
+    const auto jpeg = EncodeImage(grey, ".jpg", look.jpeg_quality);
+    const auto decoded =
+        jpeg ? DecodeGreyImage(
+                   std::string_view(reinterpret_cast<const char*>(jpeg->data()), jpeg->size()),
+                   "JPEG")
+             : Result<cv::Mat>(jpeg.error());
+    if (decoded) grey = *decoded;  // an 8-bit grey frame always encodes; kept raw otherwise
   }
   return grey;
 }

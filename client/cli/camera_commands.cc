@@ -4,7 +4,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "camera/aravis/aravis_source.h"

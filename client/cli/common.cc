@@ -2,9 +2,9 @@
 
 #include <filesystem>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "client/cli/commands.h"
+#include "service/io/image_codec.h"
 #include "service/io/image_file.h"
 
 namespace monocle::cli {
@@ -19,13 +19,7 @@ int Fail(const Error& error, int status) { return Fail(error.message, status); }
 Result<cv::Mat> ReadGreyImage(const std::string& path) { return ReadGreyImageFile(path); }
 
 Status WriteImage(const std::string& path, const cv::Mat& image) {
-  try {
-    if (cv::imwrite(path, image)) return Ok{};
-  } catch (const cv::Exception& e) {
-    return MakeError(ErrorCode::kIo, "cannot write '" + path + "': " + e.what());
-  }
-  return MakeError(ErrorCode::kIo,
-                   "cannot write '" + path + "' (unknown extension or unwritable folder)");
+  return WriteImageFile(path, image);
 }
 
 std::string ToJson(const google::protobuf::Message& message) {

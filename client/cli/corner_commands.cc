@@ -8,7 +8,6 @@
 #include <iostream>
 #include <mutex>
 #include <numbers>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <sstream>

@@ -5,10 +5,10 @@
 #include <iomanip>
 #include <iostream>
 #include <numbers>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "service/io/image_codec.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
@@ -106,8 +106,9 @@ void WriteCornerOverlay(const std::string& dir, const std::string& image_path, c
   const std::string out = (std::filesystem::path(dir) /
                            (std::filesystem::path(image_path).stem().string() + ".overlay.png"))
                               .string();
-  if (!cv::imwrite(out, DrawCornerOverlay(grey, intrinsics, result)))
-    std::cerr << "monocle: warning: cannot write overlay " << out << "\n";
+  if (const auto written = WriteImageFile(out, DrawCornerOverlay(grey, intrinsics, result));
+      !written)
+    std::cerr << "monocle: warning: cannot write overlay: " << written.error().message << "\n";
 }
 
 proto::CornerOutput ToCornerOutput(const std::string& image, const Result<CornerLocation>& r) {

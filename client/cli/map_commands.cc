@@ -51,7 +51,7 @@ ceiling corner with its X and Y edges, and optionally
   --poses POSES.jsonl   the output of `corner locate --map --json`: each located pose as a
                         dot in the colour of the corner it was measured from, joined to that
                         corner, with its heading; candidates of undecided views as grey rings
-  --out MAP.png         the picture (any format OpenCV writes)
+  --out MAP.png         the picture (.png, .jpg or .pgm)
 )";
 
 std::string Degrees(const Eigen::Vector2d& direction) {

@@ -1,6 +1,5 @@
 // monocle render floor: our own renderer of a chessboard (and boxes) on the floor.
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "camera/render/corner_renderer.h"
 #include "camera/render/floor_renderer.h"
@@ -29,7 +28,7 @@ the simulated floor camera.
                      along Y_w, height (metres); repeatable
   --noise SIGMA      Gaussian noise, grey levels (default 0)
   --seed N           noise seed (default 1)
-  --out IMG.png      output image (any format OpenCV writes)
+  --out IMG.png      output image (.png, .jpg or .pgm)
 )";
 
 constexpr const char* kCornerHelp =

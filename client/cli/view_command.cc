@@ -8,7 +8,6 @@
 #include <iostream>
 #include <mutex>
 #include <numbers>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <thread>
@@ -21,6 +20,7 @@
 #include "client/protocol/wire.h"
 #include "idl/ros2_messages.h"
 #include "service/io/calibration_file.h"
+#include "service/io/image_codec.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
@@ -136,9 +136,10 @@ int ViewCommand(const std::vector<std::string>& argv) {
   if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
   const auto timeout_s = args->GetDouble("--timeout", 10);
   if (!timeout_s || !(*timeout_s > 0)) return Fail("--timeout must be > 0 seconds", kExitUsage);
-  if (auto ext = std::filesystem::path(*out).extension().string();
-      !cv::haveImageWriter(*out) || ext.empty()) {
-    return Fail("--out " + *out + ": give an image file name, e.g. live.png", kExitUsage);
+  if (auto ext = std::filesystem::path(*out).extension().string(); !CanWriteImageExtension(ext)) {
+    return Fail(
+        "--out " + *out + ": give an image file name ending .png, .jpg or .pgm, e.g. live.png",
+        kExitUsage);
   }
 
   int status = kExitOk;

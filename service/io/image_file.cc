@@ -1,8 +1,9 @@
 #include "service/io/image_file.h"
 
-#include <opencv2/imgcodecs.hpp>
+#include <fstream>
 
 #include "service/io/bounded_file.h"
+#include "service/io/image_codec.h"
 
 namespace monocle {
 namespace {
@@ -114,6 +115,23 @@ Result<ImageHeader> Tiff(std::string_view b) {
 
 }  // namespace
 
+bool HasImageSignature(std::string_view b) {
+  return (b.size() >= 8 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) ||
+         (b.size() >= 3 && static_cast<uint8_t>(b[0]) == 0xFF &&
+          static_cast<uint8_t>(b[1]) == 0xD8) ||
+         (b.size() >= 3 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6') ||
+         (b.size() >= 2 && b.substr(0, 2) == "BM") ||
+         (b.size() >= 8 && (b.substr(0, 4) == std::string_view("II*\0", 4) ||
+                            b.substr(0, 4) == std::string_view("MM\0*", 4)));
+}
+
+bool LooksLikeImageFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char first[8] = {};
+  in.read(first, sizeof first);
+  return HasImageSignature(std::string_view(first, static_cast<size_t>(in.gcount())));
+}
+
 Result<ImageHeader> ReadImageHeader(std::string_view b) {
   if (b.size() >= 8 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) return Png(b);
   if (b.size() >= 3 && static_cast<uint8_t>(b[0]) == 0xFF && static_cast<uint8_t>(b[1]) == 0xD8)
@@ -145,20 +163,12 @@ Result<cv::Mat> ReadGreyImageFile(const std::string& path) {
                          " pixels; monocle reads images of 1 to " +
                          std::to_string(kMaxImagePixels >> 20) + " megapixels");
   }
-  cv::Mat image;
-  try {
-    const cv::Mat raw(1, static_cast<int>(bytes->size()), CV_8U, bytes->data());
-    image = cv::imdecode(raw, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
-    return MakeError(
-        ErrorCode::kInvalidArgument,
-        "cannot read image '" + path + "': OpenCV cannot decode it (" + e.what() + ")");
+  auto decoded = DecodeGreyImage(*bytes, header->format);
+  if (!decoded) {
+    return MakeError(decoded.error().code,
+                     "cannot read image '" + path + "': " + decoded.error().message);
   }
-  if (image.empty()) {
-    return MakeError(
-        ErrorCode::kInvalidArgument,
-        "cannot read image '" + path + "': its " + header->format + " data is broken or cut short");
-  }
+  cv::Mat image = std::move(*decoded);
   // The header's size is what the limit was checked against: a file whose data decodes to
   // another size is refused (a header this reader misread must not let a larger image by).
   if (static_cast<uint64_t>(image.cols) != header->width_px ||
@@ -169,7 +179,6 @@ Result<cv::Mat> ReadGreyImageFile(const std::string& path) {
                          std::to_string(header->height_px) + " pixels but its data decodes to " +
                          std::to_string(image.cols) + " x " + std::to_string(image.rows));
   }
-  if (image.depth() != CV_8U) image.convertTo(image, CV_8U, 1.0 / 256);
   return image;
 }
 

@@ -22,6 +22,13 @@ struct ImageHeader {
   uint64_t width_px = 0, height_px = 0;
 };
 
+// Whether a file starting with these bytes (its first 8 are enough) is in a format monocle
+// reads: the signature only, as a folder of frames is listed.
+bool HasImageSignature(std::string_view first_bytes);
+
+// Whether the file at `path` starts as an image monocle reads does (HasImageSignature).
+bool LooksLikeImageFile(const std::string& path);
+
 // The image's size from its first bytes. kInvalidArgument for an unknown format or a header
 // that does not hold together.
 Result<ImageHeader> ReadImageHeader(std::string_view bytes);
