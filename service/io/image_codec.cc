@@ -59,37 +59,14 @@ cv::Mat GreyFromColour(const cv::Mat& colour, bool rgb_order) {
 // --- PNM (P2, P3, P5, P6), as OpenCV reads it: samples of a maxval above 255 by their high
 // byte, colour to grey with the BT.601 weights. ---
 
-struct PnmCursor {
-  std::string_view b;
-  size_t at = 2;
-  // The next decimal number after white space and # comments; nullopt at the end or junk.
-  std::optional<uint32_t> Number() {
-    while (at < b.size() && (std::isspace(static_cast<unsigned char>(b[at])) || b[at] == '#')) {
-      if (b[at] == '#') {
-        while (at < b.size() && b[at] != '\n') ++at;
-      } else {
-        ++at;
-      }
-    }
-    uint64_t value = 0;
-    int digits = 0;
-    // As many digits as ReadImageHeader reads (11), so both see the same size.
-    while (at < b.size() && std::isdigit(static_cast<unsigned char>(b[at])) && digits < 12) {
-      value = value * 10 + static_cast<uint64_t>(b[at++] - '0');
-      ++digits;
-    }
-    if (digits == 0 || digits == 12 || value > UINT32_MAX) return std::nullopt;
-    return static_cast<uint32_t>(value);
-  }
-};
-
 Result<cv::Mat> DecodePnm(std::string_view b) {
   const char kind = b.size() >= 2 ? b[1] : '0';
   if (kind != '2' && kind != '3' && kind != '5' && kind != '6')
     return Broken("PNM", "is a kind monocle does not read (P" + std::string(1, kind) +
                              "; grey P2/P5 and colour P3/P6 are read)");
-  PnmCursor c{b};
-  const auto width = c.Number(), height = c.Number(), maxval = c.Number();
+  size_t at = 2;
+  const auto width = ReadPnmNumber(b, &at), height = ReadPnmNumber(b, &at),
+             maxval = ReadPnmNumber(b, &at);
   if (!width || !height || !maxval || *maxval == 0 || *maxval > 65535)
     return Broken("PNM", "has a broken header (width, height, maxval)");
   if (!SizeAllowed(*width, *height)) return TooLarge("PNM", *width, *height);
@@ -99,10 +76,10 @@ Result<cv::Mat> DecodePnm(std::string_view b) {
   cv::Mat decoded(static_cast<int>(*height), static_cast<int>(*width), CV_8UC(channels));
   uint8_t* out = decoded.ptr<uint8_t>();  // continuous: just allocated
   if (kind == '5' || kind == '6') {
-    ++c.at;  // the single white-space byte after maxval
-    if (c.at > b.size() || (b.size() - c.at) / sample_bytes < samples)
+    ++at;  // the single white-space byte after maxval
+    if (at > b.size() || (b.size() - at) / sample_bytes < samples)
       return Broken("PNM", "is broken or cut short");
-    const auto* in = reinterpret_cast<const uint8_t*>(b.data() + c.at);
+    const auto* in = reinterpret_cast<const uint8_t*>(b.data() + at);
     if (sample_bytes == 1) {
       std::memcpy(out, in, samples);
     } else {
@@ -110,9 +87,10 @@ Result<cv::Mat> DecodePnm(std::string_view b) {
     }
   } else {
     for (size_t i = 0; i < samples; ++i) {
-      const auto v = c.Number();
+      const auto v = ReadPnmNumber(b, &at);
       if (!v) return Broken("PNM", "is broken or cut short (something other than numbers)");
-      out[i] = static_cast<uint8_t>(sample_bytes == 2 ? *v >> 8 : std::min<uint32_t>(*v, 255));
+      out[i] = static_cast<uint8_t>(sample_bytes == 2 ? std::min<uint64_t>(*v, 65535) >> 8
+                                                      : std::min<uint64_t>(*v, 255));
     }
   }
   if (channels == 1) return decoded;

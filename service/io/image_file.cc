@@ -61,23 +61,9 @@ Result<ImageHeader> Jpeg(std::string_view b) {
 Result<ImageHeader> Pnm(std::string_view b) {
   // "P5", then width and height as decimal numbers separated by white space and # comments.
   size_t at = 2;
-  uint64_t values[2] = {0, 0};
-  for (uint64_t& value : values) {
-    while (at < b.size() && (std::isspace(static_cast<unsigned char>(b[at])) || b[at] == '#')) {
-      if (b[at] == '#') {
-        while (at < b.size() && b[at] != '\n') ++at;
-      } else {
-        ++at;
-      }
-    }
-    int digits = 0;
-    while (at < b.size() && std::isdigit(static_cast<unsigned char>(b[at])) && digits < 12) {
-      value = value * 10 + static_cast<uint64_t>(b[at++] - '0');
-      ++digits;
-    }
-    if (digits == 0 || digits == 12) return BadHeader("PNM", "has no width and height");
-  }
-  return ImageHeader{"PNM", values[0], values[1]};
+  const auto width = ReadPnmNumber(b, &at), height = ReadPnmNumber(b, &at);
+  if (!width || !height) return BadHeader("PNM", "has no width and height");
+  return ImageHeader{"PNM", *width, *height};
 }
 
 Result<ImageHeader> Bmp(std::string_view b) {
@@ -114,6 +100,24 @@ Result<ImageHeader> Tiff(std::string_view b) {
 }
 
 }  // namespace
+
+std::optional<uint64_t> ReadPnmNumber(std::string_view b, size_t* at) {
+  while (*at < b.size() && (std::isspace(static_cast<unsigned char>(b[*at])) || b[*at] == '#')) {
+    if (b[*at] == '#') {
+      while (*at < b.size() && b[*at] != '\n') ++*at;
+    } else {
+      ++*at;
+    }
+  }
+  uint64_t value = 0;
+  int digits = 0;
+  while (*at < b.size() && std::isdigit(static_cast<unsigned char>(b[*at])) && digits < 12) {
+    value = value * 10 + static_cast<uint64_t>(b[(*at)++] - '0');
+    ++digits;
+  }
+  if (digits == 0 || digits == 12) return std::nullopt;
+  return value;
+}
 
 bool HasImageSignature(std::string_view b) {
   return (b.size() >= 8 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) ||

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -28,6 +29,11 @@ bool HasImageSignature(std::string_view first_bytes);
 
 // Whether the file at `path` starts as an image monocle reads does (HasImageSignature).
 bool LooksLikeImageFile(const std::string& path);
+
+// The next decimal number of a PNM header from `*at` (after white space and # comments, at
+// most 11 digits), moving `*at` past it; nullopt if there is none. The header check and the
+// decoder both read PNM sizes with it, so they cannot disagree.
+std::optional<uint64_t> ReadPnmNumber(std::string_view bytes, size_t* at);
 
 // The image's size from its first bytes. kInvalidArgument for an unknown format or a header
 // that does not hold together.
