@@ -14,8 +14,8 @@
 #include <fstream>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
-
 #include <optional>
+
 #include "service/io/image_file.h"
 
 namespace monocle {
@@ -42,7 +42,7 @@ Error TooLarge(const std::string& format, uint64_t width, uint64_t height) {
 // one grey level now and then): BT.601 weights in 14-bit fixed point, rounded.
 int GreyOf(int r, int g, int b) { return (r * 4899 + g * 9617 + b * 1868 + (1 << 13)) >> 14; }
 
-// `order` "RGB" or "BGR": where red and blue sit among the first three of `channels`.
+// `rgb_order`: red first (else blue first) among each pixel's first three channels.
 cv::Mat GreyFromColour(const cv::Mat& colour, bool rgb_order) {
   cv::Mat grey(colour.rows, colour.cols, CV_8UC1);
   const int channels = colour.channels();
@@ -201,9 +201,9 @@ class JpegReader {
     jpeg_mem_src(&info_, reinterpret_cast<const unsigned char*>(bytes.data()),
                  static_cast<unsigned long>(bytes.size()));
     jpeg_read_header(&info_, TRUE);
-    // As OpenCV: grey straight from the decoder (its Y), CMYK converted after.
     if (!SizeAllowed(info_.image_width, info_.image_height))
       return TooLarge("JPEG", info_.image_width, info_.image_height);
+    // As OpenCV: grey straight from the decoder (its Y), CMYK converted after.
     const bool cmyk = info_.num_components == 4;
     info_.out_color_space = cmyk ? JCS_CMYK : JCS_GRAYSCALE;
     jpeg_start_decompress(&info_);
@@ -215,15 +215,16 @@ class JpegReader {
     }
     jpeg_finish_decompress(&info_);
     if (!cmyk) return image_;
-    // Adobe's inverted CMYK, as OpenCV converts it: each of C, M, Y times K over 255, then
-    // the BT.601 weights.
+    // Adobe's inverted CMYK, as OpenCV converts it (image_codec_test): red from C, green
+    // from M, blue from Y, each k - (255 - v) k / 256, then the BT.601 weights.
     cv::Mat grey(image_.rows, image_.cols, CV_8UC1);
     for (int y = 0; y < image_.rows; ++y) {
       const uint8_t* in = image_.ptr<uint8_t>(y);
       uint8_t* out = grey.ptr<uint8_t>(y);
       for (int x = 0; x < image_.cols; ++x, in += 4) {
         const int k = in[3];
-        const int r = in[0] * k / 255, g = in[1] * k / 255, b = in[2] * k / 255;
+        const int r = k - (((255 - in[0]) * k) >> 8), g = k - (((255 - in[1]) * k) >> 8),
+                  b = k - (((255 - in[2]) * k) >> 8);
         out[x] = static_cast<uint8_t>(GreyOf(r, g, b));
       }
     }

@@ -4,6 +4,7 @@
 #include "service/io/image_codec.h"
 
 #include <gtest/gtest.h>
+#include <jpeglib.h>
 
 #include <filesystem>
 #include <fstream>
@@ -71,6 +72,38 @@ TEST(ImageCodecTest, DecodesEveryKindOpenCvWritesToTheSamePixels) {
                      "1-bit PNG");
   ExpectSameAsOpenCv(OpenCvEncode(".jpg", Frame(CV_8UC1, 5), {cv::IMWRITE_JPEG_PROGRESSIVE, 1}),
                      "JPEG", "progressive JPEG");
+}
+
+// A CMYK JPEG (as print workflows and some scanners write them; OpenCV writes none): made
+// with libjpeg directly (its defaults add the Adobe marker), from random CMYK samples.
+std::vector<uint8_t> CmykJpeg(const cv::Mat& cmyk) {
+  jpeg_compress_struct info{};
+  jpeg_error_mgr error{};
+  info.err = jpeg_std_error(&error);
+  jpeg_create_compress(&info);
+  unsigned char* buffer = nullptr;
+  unsigned long size = 0;
+  jpeg_mem_dest(&info, &buffer, &size);
+  info.image_width = static_cast<JDIMENSION>(cmyk.cols);
+  info.image_height = static_cast<JDIMENSION>(cmyk.rows);
+  info.input_components = 4;
+  info.in_color_space = JCS_CMYK;
+  jpeg_set_defaults(&info);
+  jpeg_set_quality(&info, 90, TRUE);
+  jpeg_start_compress(&info, TRUE);
+  while (info.next_scanline < info.image_height) {
+    JSAMPROW row = const_cast<JSAMPROW>(cmyk.ptr<uint8_t>(static_cast<int>(info.next_scanline)));
+    jpeg_write_scanlines(&info, &row, 1);
+  }
+  jpeg_finish_compress(&info);
+  std::vector<uint8_t> out(buffer, buffer + size);
+  jpeg_destroy_compress(&info);
+  std::free(buffer);
+  return out;
+}
+
+TEST(ImageCodecTest, DecodesCmykJpegAsOpenCvDoes) {
+  ExpectSameAsOpenCv(CmykJpeg(Frame(CV_8UC4, 31)), "JPEG", "CMYK JPEG");
 }
 
 TEST(ImageCodecTest, CompressesJpegToOpenCvsBytes) {
