@@ -1,9 +1,8 @@
-#include <google/protobuf/util/json_util.h>
-
 #include <filesystem>
 #include <iostream>
 
 #include "client/cli/commands.h"
+#include "client/cli/proto_json.h"
 #include "service/io/image_codec.h"
 #include "service/io/image_file.h"
 
@@ -22,15 +21,7 @@ Status WriteImage(const std::string& path, const cv::Mat& image) {
   return WriteImageFile(path, image);
 }
 
-std::string ToJson(const google::protobuf::Message& message) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.always_print_primitive_fields = true;
-  options.preserve_proto_field_names = true;
-  std::string out;
-  const auto status = google::protobuf::util::MessageToJsonString(message, &out, options);
-  (void)status;  // cannot fail for our own messages
-  return out;
-}
+std::string ToJson(const google::protobuf::Message& message) { return ProtoToJson(message); }
 
 bool WantsHelp(const std::vector<std::string>& args) {
   for (const auto& a : args) {

@@ -29,8 +29,9 @@ std::string Megabytes(size_t bytes) { return std::to_string(bytes >> 20) + " MB"
 
 }  // namespace
 
-Result<std::string> ReadBoundedFile(const std::string& path, const std::string& what,
-                                    size_t max_bytes) {
+Result<size_t> ReadBoundedFileInto(const std::string& path, const std::string& what,
+                                   size_t max_bytes,
+                                   const std::function<char*(size_t size)>& buffer_of_size) {
   // O_NONBLOCK: opening a FIFO nobody writes to must not hang; regular files ignore it.
   FileDescriptor fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK));
   if (fd.get() < 0) {
@@ -54,11 +55,12 @@ Result<std::string> ReadBoundedFile(const std::string& path, const std::string& 
                          " bytes is more than the " + Megabytes(max_bytes) + " a " + what +
                          " may have");
   }
-  std::string text(static_cast<size_t>(st.st_size), '\0');
+  const size_t size = static_cast<size_t>(st.st_size);
+  char* buffer = buffer_of_size(size);
   size_t done = 0;
   // Never more than the size checked above, even if the file grows while we read.
-  while (done < text.size()) {
-    const ssize_t n = ::read(fd.get(), text.data() + done, text.size() - done);
+  while (done < size) {
+    const ssize_t n = ::read(fd.get(), buffer + done, size - done);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       return MakeError(ErrorCode::kIo,
@@ -67,7 +69,18 @@ Result<std::string> ReadBoundedFile(const std::string& path, const std::string& 
     if (n == 0) break;  // shrank meanwhile: what is there
     done += static_cast<size_t>(n);
   }
-  text.resize(done);
+  return done;
+}
+
+Result<std::string> ReadBoundedFile(const std::string& path, const std::string& what,
+                                    size_t max_bytes) {
+  std::string text;
+  const auto read = ReadBoundedFileInto(path, what, max_bytes, [&](size_t size) {
+    text.resize(size);
+    return text.data();
+  });
+  if (!read) return read.error();
+  text.resize(*read);
   return text;
 }
 

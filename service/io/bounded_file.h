@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 #include "service/common/result.h"
@@ -18,5 +19,12 @@ inline constexpr size_t kMaxImageFileBytes = 256u << 20;  // one compressed or r
 // open), kInvalidArgument (not a regular file, or larger than max_bytes), kIo (read failed).
 Result<std::string> ReadBoundedFile(const std::string& path, const std::string& what,
                                     size_t max_bytes);
+
+// The same checks, read into the buffer `buffer_of_size(file size)` returns (at least that
+// large): a large file is read once, into where it is used, without zeroing or copying it.
+// Returns how many bytes were read (fewer if the file shrank meanwhile).
+Result<size_t> ReadBoundedFileInto(const std::string& path, const std::string& what,
+                                   size_t max_bytes,
+                                   const std::function<char*(size_t size)>& buffer_of_size);
 
 }  // namespace monocle

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <tuple>
 
 #include "service/io/bounded_file.h"
 #include "service/io/image_file.h"
@@ -104,6 +105,43 @@ TEST_F(BoundedFileTest, HeaderSizeMatchesTheEncodedImageInEveryFormat) {
     ASSERT_TRUE(read.ok()) << ext << ": " << read.error();
     EXPECT_EQ(read->cols, 53);
     EXPECT_EQ(read->rows, 37);
+  }
+}
+
+// A raw frame (8-bit binary PGM) is read into one buffer and returned as a view of its
+// pixels there; every other file is decoded into an image of its own. Either way the pixels
+// are OpenCV's, and a PGM cut short is refused, not returned with what lay beyond it.
+TEST_F(BoundedFileTest, ARawFrameIsAViewOfTheFileBufferWithTheSamePixels) {
+  cv::Mat image(61, 83, CV_8U);
+  cv::RNG(5).fill(image, cv::RNG::UNIFORM, 0, 256);
+  for (const std::string ext : {".pgm", ".png"}) {
+    std::vector<uchar> bytes;
+    ASSERT_TRUE(cv::imencode(ext, image, bytes)) << ext;
+    const auto read =
+        ReadGreyImageFile(Write("frame" + ext, std::string(bytes.begin(), bytes.end())));
+    ASSERT_TRUE(read.ok()) << ext << ": " << read.error();
+    EXPECT_EQ(cv::norm(*read, image, cv::NORM_INF), 0) << ext;
+    EXPECT_TRUE(read->isContinuous()) << ext;
+    // The PGM's pixels start after its header inside the buffer the file was read into.
+    EXPECT_EQ(read->data != read->datastart, ext == ".pgm") << ext;
+    if (ext != ".pgm") continue;
+    const auto cut =
+        ReadGreyImageFile(Write("cut.pgm", std::string(bytes.begin(), bytes.end() - 1)));
+    ASSERT_FALSE(cut.ok());
+    EXPECT_NE(cut.error().message.find("cut short"), std::string::npos) << cut.error();
+  }
+  // 16-bit and ASCII PGMs are converted: a copy, by their high byte and their numbers.
+  cv::Mat wide;
+  image.convertTo(wide, CV_16U, 257);
+  for (const auto& [name, params, source] :
+       {std::tuple{"wide.pgm", std::vector<int>{}, wide},
+        std::tuple{"ascii.pgm", std::vector<int>{cv::IMWRITE_PXM_BINARY, 0}, image}}) {
+    std::vector<uchar> bytes;
+    ASSERT_TRUE(cv::imencode(".pgm", source, bytes, params)) << name;
+    const auto read = ReadGreyImageFile(Write(name, std::string(bytes.begin(), bytes.end())));
+    ASSERT_TRUE(read.ok()) << name << ": " << read.error();
+    EXPECT_EQ(read->data, read->datastart) << name;
+    EXPECT_EQ(cv::norm(*read, image, cv::NORM_INF), 0) << name;
   }
 }
 

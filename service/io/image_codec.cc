@@ -59,7 +59,8 @@ cv::Mat GreyFromColour(const cv::Mat& colour, bool rgb_order) {
 // --- PNM (P2, P3, P5, P6), as OpenCV reads it: samples of a maxval above 255 by their high
 // byte, colour to grey with the BT.601 weights. ---
 
-Result<cv::Mat> DecodePnm(std::string_view b) {
+// `file`: the 1-row CV_8U Mat `b` lies in, if any; an 8-bit binary PGM is then a view of it.
+Result<cv::Mat> DecodePnm(std::string_view b, const cv::Mat* file = nullptr) {
   const char kind = b.size() >= 2 ? b[1] : '0';
   if (kind != '2' && kind != '3' && kind != '5' && kind != '6')
     return Broken("PNM", "is a kind monocle does not read (P" + std::string(1, kind) +
@@ -73,6 +74,14 @@ Result<cv::Mat> DecodePnm(std::string_view b) {
   const int channels = kind == '3' || kind == '6' ? 3 : 1;
   const int sample_bytes = *maxval > 255 ? 2 : 1;
   const size_t samples = static_cast<size_t>(*width) * *height * channels;
+  if (kind == '5' && sample_bytes == 1 && file != nullptr) {
+    ++at;  // the single white-space byte after maxval
+    if (at > b.size() || b.size() - at < samples) return Broken("PNM", "is broken or cut short");
+    const auto offset =
+        static_cast<int>(reinterpret_cast<const uchar*>(b.data()) + at - file->data);
+    return cv::Mat(*file, cv::Range::all(), cv::Range(offset, offset + static_cast<int>(samples)))
+        .reshape(1, static_cast<int>(*height));
+  }
   cv::Mat decoded(static_cast<int>(*height), static_cast<int>(*width), CV_8UC(channels));
   uint8_t* out = decoded.ptr<uint8_t>();  // continuous: just allocated
   if (kind == '5' || kind == '6') {
@@ -479,6 +488,14 @@ Result<cv::Mat> DecodeGreyImage(std::string_view bytes, const std::string& forma
   if (format == "BMP") return DecodeBmp(bytes);
   if (format == "TIFF") return DecodeTiff(bytes);
   return MakeError(ErrorCode::kInvalidArgument, "it is not an image format monocle reads");
+}
+
+Result<cv::Mat> DecodeGreyImage(const cv::Mat& file, const std::string& format) {
+  if (file.type() != CV_8UC1 || file.rows != 1)
+    return MakeError(ErrorCode::kInvalidArgument, "a file's bytes are one row of CV_8U");
+  const std::string_view bytes(reinterpret_cast<const char*>(file.data), file.total());
+  if (format == "PNM") return DecodePnm(bytes, &file);
+  return DecodeGreyImage(bytes, format);
 }
 
 bool CanWriteImageExtension(const std::string& extension) {

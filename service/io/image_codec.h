@@ -24,6 +24,11 @@ namespace monocle {
 // or of a kind not read here (compressed BMP, PNM bitmaps).
 Result<cv::Mat> DecodeGreyImage(std::string_view bytes, const std::string& format);
 
+// The same, from a whole file held in `file` (one row of CV_8U): an 8-bit binary PGM (the
+// format of raw frames) comes back as a view of its pixels in `file`, sharing it, not a
+// copy: copying a 1280 x 1024 frame was 3 % of `monocle corner locate`'s time per frame.
+Result<cv::Mat> DecodeGreyImage(const cv::Mat& file, const std::string& format);
+
 // An 8-bit grey or BGR image as a file's bytes, by the file name's extension: .png, .jpg or
 // .jpeg (quality 0-100), .pgm / .ppm / .pnm (binary, grey or colour as the image is).
 Result<std::vector<uint8_t>> EncodeImage(const cv::Mat& image, const std::string& extension,

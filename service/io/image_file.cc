@@ -1,5 +1,6 @@
 #include "service/io/image_file.h"
 
+#include <algorithm>
 #include <fstream>
 
 #include "service/io/bounded_file.h"
@@ -150,9 +151,16 @@ Result<ImageHeader> ReadImageHeader(std::string_view b) {
 }
 
 Result<cv::Mat> ReadGreyImageFile(const std::string& path) {
-  auto bytes = ReadBoundedFile(path, "image", kMaxImageFileBytes);
-  if (!bytes) return bytes.error();
-  const auto header = ReadImageHeader(*bytes);
+  // Read into a Mat, which a raw frame's pixels are then a view of (DecodeGreyImage).
+  cv::Mat file;
+  const auto size = ReadBoundedFileInto(path, "image", kMaxImageFileBytes, [&](size_t bytes) {
+    file.create(1, static_cast<int>(std::max<size_t>(bytes, 1)), CV_8UC1);
+    return reinterpret_cast<char*>(file.data);
+  });
+  if (!size) return size.error();
+  file = file.colRange(0, static_cast<int>(*size));
+  const std::string_view bytes(reinterpret_cast<const char*>(file.data), *size);
+  const auto header = ReadImageHeader(bytes);
   if (!header) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "cannot read image '" + path + "': " + header.error().message);
@@ -167,7 +175,7 @@ Result<cv::Mat> ReadGreyImageFile(const std::string& path) {
                          " pixels; monocle reads images of 1 to " +
                          std::to_string(kMaxImagePixels >> 20) + " megapixels");
   }
-  auto decoded = DecodeGreyImage(*bytes, header->format);
+  auto decoded = DecodeGreyImage(file, header->format);
   if (!decoded) {
     return MakeError(decoded.error().code,
                      "cannot read image '" + path + "': " + decoded.error().message);
