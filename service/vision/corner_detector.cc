@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
@@ -36,6 +37,9 @@ struct Segment {
   int support = 0;
   Eigen::Vector2d End(int i) const { return rho * normal + (i ? t1 : t0) * direction; }
 };
+
+// Four int32 lanes, compared all at once (GCC's vector extension).
+using Lanes4 = int32_t __attribute__((vector_size(16)));
 
 // The median (the upper one of an even count) of squared gradient magnitudes (>= 0). Flat
 // surfaces make most of them small, so the median is usually found by counting them in
@@ -115,9 +119,25 @@ std::vector<EdgePixel> ThinEdges(const cv::Mat& img, const CornerDetectorOptions
     const int32_t* m = mag_row(y);
     const int32_t* up = mag_row(y - 1);
     const int32_t* down = mag_row(y + 1);
-    // The columns at or above the threshold, listed without a branch per pixel.
+    // The columns at or above the threshold: 16 tested at once, in four-lane vectors (GCC's
+    // vector extension: SSE2 here, NEON on ARM; the compiler did not vectorize the plain
+    // loop), and only a block holding one listed pixel by pixel, without a branch per pixel.
     size_t count = 0;
-    for (int x = 1; x < w - 1; ++x) {
+    int x = 1;
+    for (; x + 16 <= w - 1; x += 16) {
+      Lanes4 any = {0, 0, 0, 0};
+      for (int k = 0; k < 16; k += 4) {
+        Lanes4 v;
+        std::memcpy(&v, m + x + k, sizeof v);
+        any |= v >= t2;
+      }
+      if ((any[0] | any[1] | any[2] | any[3]) == 0) continue;
+      for (int k = 0; k < 16; ++k) {
+        above[count] = x + k;
+        count += m[x + k] >= t2;
+      }
+    }
+    for (; x < w - 1; ++x) {
       above[count] = x;
       count += m[x] >= t2;
     }
@@ -205,7 +225,9 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
     if (++acc[cell] == candidate_votes) candidates.push_back(cell);
   });
   auto smoothed = [&](int a, int r) {
-    a = (a % kAngleBins + kAngleBins) % kAngleBins;  // wrapping in angle flips rho; close enough
+    // a is within a bin of the range: wrapping in angle flips rho; close enough.
+    if (a < 0) a += kAngleBins;
+    if (a >= kAngleBins) a -= kAngleBins;
     if (r < 1 || r >= rho_bins - 1) return 0;
     const uint16_t* row = &acc[static_cast<size_t>(a) * rho_bins];
     return row[r - 1] + row[r] + row[r + 1];
