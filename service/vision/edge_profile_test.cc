@@ -51,6 +51,51 @@ TEST(EdgeProfileTest, EstimatesTheNoiseOfAFlatImage) {
 // averages over: the measurement noise of a JPEG image is its sensor noise (within 25 % down
 // to quality 70), where the pixel estimate reads 2-6x low. On a raw image the two agree, and
 // a shading ramp and an edge in view do not move it.
+// The noise estimate counts the small differences 16 at a time and falls back to a full
+// histogram when the median is beyond them: either way it must be exactly the interpolated
+// median of the whole histogram, written out here the plain way, for any width (the last
+// pixels of a row are counted one by one), height and noise, including images so rough that
+// the median is beyond the small bins.
+double PlainNoiseEstimate(const cv::Mat& grey) {
+  std::array<int64_t, 256> histogram{};
+  int64_t count = 0;
+  for (int y = 1; y < grey.rows; y += grey.rows >= 512 ? 8 : 4) {
+    for (int x = 0; x + 1 < grey.cols; ++x) {
+      ++histogram[std::abs(grey.at<uint8_t>(y, x + 1) - grey.at<uint8_t>(y, x))];
+      ++count;
+    }
+  }
+  double below = 0;
+  for (int d = 0; d < 256; ++d) {
+    if (below + static_cast<double>(histogram[d]) >= 0.5 * static_cast<double>(count)) {
+      const double lo = d == 0 ? 0.0 : d - 0.5, width = d == 0 ? 0.5 : 1.0;
+      return (lo + width * (0.5 * static_cast<double>(count) - below) /
+                       std::max<double>(static_cast<double>(histogram[d]), 1)) /
+             (0.6745 * std::sqrt(2.0));
+    }
+    below += static_cast<double>(histogram[d]);
+  }
+  return 0;
+}
+
+TEST(EdgeProfileTest, TheNoiseEstimateIsTheWholeHistogramsMedian) {
+  cv::RNG rng(2026);
+  int beyond_small_bins = 0;
+  for (const auto& [cols, rows] : {std::pair{1280, 1024}, std::pair{641, 513}, std::pair{37, 40},
+                                   std::pair{17, 9}, std::pair{16, 5}, std::pair{2, 600}}) {
+    for (double sigma : {0.0, 0.7, 3.0, 9.0, 40.0}) {
+      cv::Mat image(rows, cols, CV_8UC1, cv::Scalar(128));
+      cv::Mat noise(rows, cols, CV_32F);
+      rng.fill(noise, cv::RNG::NORMAL, 128, sigma);
+      noise.convertTo(image, CV_8U);
+      ASSERT_EQ(EstimateNoiseSigma(image), PlainNoiseEstimate(image))
+          << cols << "x" << rows << " sigma " << sigma;
+      beyond_small_bins += PlainNoiseEstimate(image) * 0.6745 * std::sqrt(2.0) > 7.5;
+    }
+  }
+  EXPECT_GE(beyond_small_bins, 4) << "the fall-back to the whole histogram was not exercised";
+}
+
 TEST(EdgeProfileTest, MeasurementNoiseSurvivesCompression) {
   for (double sigma : {2.0, 3.0, 4.0}) {
     cv::Mat lit(1024, 1280, CV_32F);
