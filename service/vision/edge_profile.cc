@@ -221,7 +221,7 @@ std::optional<EdgePointSample> PeakOfProfile(const DerivativeKernel& kernel, con
                                              int r, int search, double half_width_px, int polarity,
                                              double min_step_grey, const Eigen::Vector2d& p,
                                              const Eigen::Vector2d& n) {
-  std::array<float, 128> deriv{};
+  std::array<float, 128> deriv;  // written before it is read, over [r - search - 1, r + search + 1]
   if (2 * r + 1 > static_cast<int>(deriv.size())) return std::nullopt;
   const int reach = kernel.Reach();
   for (int o = r - search - 1; o <= r + search + 1; ++o) {
