@@ -303,20 +303,20 @@ void AppendMessage(const Message& message, std::string* out) {
   // proto3 `optional` scalar is in a oneof of its own), which follow the others in the order
   // of their numbers (its default-value writer fills in the others, then appends these as
   // they arrive from the serialized message).
-  std::vector<const FieldDescriptor*> set_oneof_scalars;
+  std::vector<const FieldDescriptor*> oneof_scalars;
   for (int i = 0; i < descriptor->field_count(); ++i) {
     const FieldDescriptor* field = descriptor->field(i);
     if (field->containing_oneof() != nullptr &&
         field->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) {
-      set_oneof_scalars.push_back(field);
+      oneof_scalars.push_back(field);
     } else {
       append_field(field);
     }
   }
   std::sort(
-      set_oneof_scalars.begin(), set_oneof_scalars.end(),
+      oneof_scalars.begin(), oneof_scalars.end(),
       [](const FieldDescriptor* a, const FieldDescriptor* b) { return a->number() < b->number(); });
-  for (const FieldDescriptor* field : set_oneof_scalars) append_field(field);
+  for (const FieldDescriptor* field : oneof_scalars) append_field(field);
   out->push_back('}');
 }
 
