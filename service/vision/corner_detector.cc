@@ -2,6 +2,7 @@
 
 #include "service/geometry/undistortion_grid.h"
 #include "service/vision/halve_image.h"
+#include "service/vision/order_statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,42 +43,10 @@ struct Segment {
 // Four int32 lanes, compared all at once (GCC's vector extension).
 using Lanes4 = int32_t __attribute__((vector_size(16)));
 
-// The median (the upper one of an even count) of squared gradient magnitudes (>= 0). Flat
-// surfaces make most of them small, so the median is usually found by counting them in
-// 4096 bins, one per value, in a sixth of nth_element's time; beyond that, nth_element on
-// the larger ones. Exactly nth_element's value either way.
-int32_t MedianOfSquares(const std::vector<int32_t>& values) {
-  constexpr int32_t kBins = 4096;
-  thread_local std::vector<int32_t> histogram;
-  histogram.assign(kBins, 0);
-  size_t larger = 0;
-  for (const int32_t v : values) {
-    if (v < kBins) {
-      ++histogram[v];
-    } else {
-      ++larger;
-    }
-  }
-  const size_t rank = values.size() / 2;  // 0-based rank of the median
-  size_t below = 0;
-  for (int32_t v = 0; v < kBins; ++v) {
-    below += static_cast<size_t>(histogram[v]);
-    if (below > rank) return v;
-  }
-  // The median is among the values >= kBins: below == values.size() - larger.
-  std::vector<int32_t> big;
-  big.reserve(larger);
-  for (const int32_t v : values)
-    if (v >= kBins) big.push_back(v);
-  const size_t big_rank = rank - below;
-  std::nth_element(big.begin(), big.begin() + static_cast<std::ptrdiff_t>(big_rank), big.end());
-  return big[big_rank];
-}
-
 // Sobel, then non-maximum suppression across the edge: the thinning step. The threshold
 // follows the image: in flat regions (most of a room) the gradient's two components are
 // Gaussian noise, so its squared magnitude is exponential with median 2 ln 2 sigma_g^2.
-// The threshold comes from a sample of pixels first (MedianOfSquares: the sample's
+// The threshold comes from a sample of pixels first (MedianOfNonNegative: the sample's
 // nth_element was a third of this function's time), so the squared magnitudes are then
 // computed three rows at a time, and only the pixels above it (a few in a hundred) are
 // compared with their neighbours. The same edges, in the same order, as before.
@@ -94,7 +63,7 @@ std::vector<EdgePixel> ThinEdges(const cv::Mat& img, const CornerDetectorOptions
     for (int x = 2; x < w - 2; x += 4) sample.push_back(squared(px[x], py[x]));
   }
   double noise2 = 0;  // sigma_g^2
-  if (!sample.empty()) noise2 = MedianOfSquares(sample) / (2 * std::log(2.0));
+  if (!sample.empty()) noise2 = MedianOfNonNegative(sample) / (2 * std::log(2.0));
   const double threshold2 = std::max(options.edge_snr * options.edge_snr * noise2,
                                      options.min_edge_gradient * options.min_edge_gradient);
   const int32_t t2 = static_cast<int32_t>(std::min(threshold2, 2e9));
@@ -297,43 +266,6 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
     if (static_cast<int>(kept.size()) >= max_peaks) break;
   }
   return kept;
-}
-
-// Sorts (position along a line, pixel) pairs by position: counted into 2 px bins, then
-// insertion sort, which only moves a pair within its bin. A line's support is spread evenly
-// along it, so this is linear; std::sort took half of the segment stage.
-void SortByPosition(std::vector<std::pair<double, Eigen::Vector2d>>* support) {
-  auto& v = *support;
-  if (v.size() < 2) return;
-  double lo = v[0].first, hi = v[0].first;
-  bool finite = true;
-  for (const auto& e : v) {
-    lo = std::min(lo, e.first);
-    hi = std::max(hi, e.first);
-    finite &= std::isfinite(e.first);
-  }
-  constexpr double kBinPx = 2;
-  const double span_bins = (hi - lo) / kBinPx;
-  if (!finite || span_bins > 8.0 * static_cast<double>(v.size()) + 64) {  // sparse: sort
-    std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    return;
-  }
-  const size_t bins = static_cast<size_t>(span_bins) + 1;
-  thread_local std::vector<uint32_t> next;  // first free slot of each bin
-  thread_local std::vector<std::pair<double, Eigen::Vector2d>> binned;
-  next.assign(bins + 1, 0);
-  auto bin = [&](double t) { return std::min(static_cast<size_t>((t - lo) / kBinPx), bins - 1); };
-  for (const auto& e : v) ++next[bin(e.first) + 1];
-  for (size_t b = 1; b <= bins; ++b) next[b] += next[b - 1];
-  binned.resize(v.size());
-  for (const auto& e : v) binned[next[bin(e.first)]++] = e;
-  for (size_t i = 1; i < binned.size(); ++i) {
-    const auto e = binned[i];
-    size_t j = i;
-    for (; j > 0 && e.first < binned[j - 1].first; --j) binned[j] = binned[j - 1];
-    binned[j] = e;
-  }
-  v.swap(binned);
 }
 
 // Splits the edge pixels supporting a Hough line into contiguous segments.
