@@ -603,6 +603,39 @@ Eigen::Vector2d ToImage(const Eigen::Vector2d& p, double scale, const CameraIntr
   return k != nullptr && k->HasDistortion() ? RedistortPixel(*k, full) : full;
 }
 
+// Whether the image is clipped (3x3 mean >= 250, or <= 5) on either side of an edge through
+// `p` (full-resolution pixel, `normal` across the edge), 4 px off it: the edge cannot be
+// measured there (PeakOfProfile leaves such points out) nor its contrast be judged.
+bool ClippedAcross(const cv::Mat& grey, const Eigen::Vector2d& p, const Eigen::Vector2d& normal) {
+  auto mean3x3 = [&](const Eigen::Vector2d& q) {
+    const int x = static_cast<int>(std::lround(q.x())), y = static_cast<int>(std::lround(q.y()));
+    if (x < 1 || y < 1 || x > grey.cols - 2 || y > grey.rows - 2) return -1;
+    int sum = 0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      const uint8_t* row = grey.ptr<uint8_t>(y + dy);
+      sum += row[x - 1] + row[x] + row[x + 1];
+    }
+    return sum / 9;
+  };
+  const int a = mean3x3(p + 4 * normal), b = mean3x3(p - 4 * normal);
+  if (a < 0 || b < 0) return false;
+  return std::max(a, b) >= 250 || std::min(a, b) <= 5;
+}
+
+// Whether at least 80 % of the points every 8 px from `from` to `to` (full-resolution
+// pixels) are ClippedAcross the line between them.
+bool ClippedAlong(const cv::Mat& grey, const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+  const double length = (to - from).norm();
+  if (length < 1) return false;
+  const Eigen::Vector2d d = (to - from) / length;
+  const Eigen::Vector2d normal(-d.y(), d.x());
+  const int n = std::max(2, static_cast<int>(length / 8));
+  int clipped = 0;
+  for (int i = 0; i < n; ++i)
+    clipped += ClippedAcross(grey, from + (i + 0.5) * length / n * d, normal);
+  return 5 * clipped >= 4 * n;
+}
+
 // Edge points from the corner outwards to the image border: measured in chunks of 32 px
 // along the current line, which is refitted to the points found so far (the last 300 px of
 // them) before the next chunk. A Hough direction from a short segment near the corner is a
@@ -617,7 +650,7 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
   double t = 8;                     // distance along the line from `origin`
   int misses = 0;                   // chunks in a row without a point
   // A long gap (contrast fading where shading evens the two surfaces out) is crossed on the
-  // last line; the trace ends at the border or after 8 empty chunks.
+  // last line; the trace ends at the border or after 8 empty chunks not clipped.
   std::vector<Eigen::Vector2d> positions;
   while (misses < 8) {
     positions.clear();
@@ -635,7 +668,14 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
                            : MajoritySign(MeasureEdgeStretch(grey, positions.front(), direction,
                                                              static_cast<int>(positions.size()),
                                                              kSpacing, 4, 0, min_step));
-    misses = chunk.empty() ? misses + 1 : 0;
+    // An empty chunk where the image is clipped beside the line is no evidence that the edge
+    // ended: a lamp's glare whitens the walls near the ceiling, and no point can be measured
+    // beside a clipped side, but the edge shows again beyond the glare.
+    if (!chunk.empty())
+      misses = 0;
+    else if (positions.empty() ||
+             !ClippedAlong(grey, positions.front(), positions.back() + direction))
+      ++misses;
     found.insert(found.end(), chunk.begin(), chunk.end());
     if (!inside) break;
     // Refit on the recent points (within kMemory of the line's end): total least squares,
@@ -796,6 +836,11 @@ std::string DiagnoseMissingY(const cv::Mat& grey, const std::vector<Segment>& se
   if (strongest > 4 * std::max(noise_sigma, 0.5))
     return edges + "; 2 meet" + where + " but no straight third edge leaves it (strongest step " +
            measured + ")";
+  // No third edge where the walls around the junction are clipped white: the glare hides it.
+  if (SaturatedAround(grey, corner))
+    return edges + "; 2 meet" + where +
+           " but the surfaces around them are saturated (white or black clipped), which hides "
+           "the third; lower the exposure or gain";
   return edges + "; 2 meet" + where + " but the third is too weak (" + measured + ")";
 }
 

@@ -18,6 +18,7 @@
 #include <random>
 
 #include "camera/render/corner_renderer.h"
+#include "camera/render/reference_camera.h"
 #include "service/geometry/corner_test_scenes.h"
 #include "service/geometry/test_scenes.h"
 #include "service/vision/corner_locator.h"
@@ -383,6 +384,43 @@ TEST(CornerAccuracyTest, ShortEdgesAreMeasuredUpToTheBorder) {
   const NoiseDrawScatter s = ScatterOverNoiseDraws(k, RenderRealisticView(k, 2611, 36), true);
   EXPECT_GT(s.scatter_rel, s.bound_rel) << "no estimator beats the bound";
   EXPECT_LT(s.scatter_rel, 1.85 * s.bound_rel);
+}
+
+// Views where a lamp's glare clips both walls white around the corner. No edge point is
+// measured beside a clipped side (edge_profile.cc: clipping moves the steepest rise off the
+// edge), so each edge of the Y shows only beyond the glare, up to 300 px from the corner. The
+// detector accepts a Y edge that starts that far off only where the image between is
+// clipped, and its trace crosses clipped stretches without counting them as misses. Before,
+// these views had no pose ("the surfaces around the corner are saturated").
+TEST(CornerAccuracyTest, ACornerInGlareIsLocatedFromItsEdgesBeyondTheGlare) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  for (const auto& [seed, index] :
+       {std::pair<uint64_t, int>{2611, 22}, {557123, 49}, {557123, 68}}) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " view " + std::to_string(index));
+    const RealisticView view = RenderRealisticView(k, seed, index);
+    // The glare is there: a quarter or more of the pixels within 40 px of the true corner
+    // (projected with the reference camera) are clipped white.
+    const Eigen::Matrix3d r = reference::RotationCameraFromCorner(view.truth);
+    const Eigen::Vector3d position(view.truth.x_m, view.truth.y_m, view.truth.z_m);
+    const cv::Point2d corner =
+        reference::ProjectPoints(k, r, -r * position, {Eigen::Vector3d::Zero()})[0];
+    const cv::Rect box =
+        cv::Rect(static_cast<int>(corner.x) - 40, static_cast<int>(corner.y) - 40, 81, 81) &
+        cv::Rect(0, 0, view.image.cols, view.image.rows);
+    ASSERT_GT(box.area(), 0);
+    EXPECT_GE(4 * cv::countNonZero(view.image(box) >= 250), box.area());
+    const auto got = LocateCorner(view.image, k, view.truth.z_m);
+    ASSERT_TRUE(got.ok()) << got.error();
+    EXPECT_LT(RelativeHorizontalError(*got, view.truth), 0.01) << *got;
+    EXPECT_LT(AngleErrorDeg(got->pose.tilt_rad, view.truth.tilt_rad), 0.2) << *got;
+  }
+  // Where the wall-wall edge is clipped on one side all along (view 71 of seed 606060), no
+  // pose; the reason names the glare and what to do, not a weak edge.
+  const RealisticView clipped = RenderRealisticView(k, 606060, 71);
+  const auto none = LocateCorner(clipped.image, k, clipped.truth.z_m);
+  ASSERT_FALSE(none.ok()) << *none;
+  EXPECT_NE(none.error().message.find("saturated"), std::string::npos) << none.error();
+  EXPECT_NE(none.error().message.find("lower the exposure"), std::string::npos) << none.error();
 }
 
 // View 7 of realistic seed 735911 (a fresh seed, run once after the quarter-resolution
