@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "client/cli/overlay_text.h"
 #include "service/io/image_codec.h"
 #include "service/vision/corner_tracker.h"
 
@@ -21,13 +22,6 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 const char* kAxisName[3] = {"X", "Y", "Z"};
 
 namespace {
-
-void PutOutlinedText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
-                     const cv::Scalar& colour, int thickness) {
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), thickness + 3,
-              cv::LINE_AA);
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, thickness, cv::LINE_AA);
-}
 
 cv::Point Pt(const Eigen::Vector2d& p) {
   return cv::Point(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
@@ -81,17 +75,17 @@ cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsic
   } else {
     text = result.error().message;
   }
-  PutOutlinedText(color, text, cv::Point(12, 32), 0.8, cv::Scalar(0, 255, 255), 2);
+  int y = PutWrappedText(color, text, cv::Point(12, 32), 0.8, cv::Scalar(0, 255, 255), 2);
   if (result) {
     // Second line: where the pose came from and the image's noise.
     std::ostringstream os;
     os << std::fixed << std::setprecision(1) << ToString(result->source) << "  noise "
        << result->noise_sigma_grey << " grey  rms " << std::setprecision(2) << result->rms_px
        << " px";
-    PutOutlinedText(color, os.str(), cv::Point(12, 64), 0.6, cv::Scalar(0, 255, 255), 1);
+    y = PutWrappedText(color, os.str(), cv::Point(12, y), 0.6, cv::Scalar(0, 255, 255), 1);
     if (result->suspect) {
-      PutOutlinedText(color, "SUSPECT: " + result->suspect_reason, cv::Point(12, 92), 0.6,
-                      cv::Scalar(0, 0, 255), 2);
+      PutWrappedText(color, "SUSPECT: " + result->suspect_reason, cv::Point(12, y), 0.6,
+                     cv::Scalar(0, 0, 255), 2);
     }
     PutOutlinedText(color,
                     "thick: edges measured (as far as found)   thin white: edges the pose "

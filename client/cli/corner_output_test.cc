@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "camera/render/corner_renderer.h"
@@ -56,6 +57,28 @@ TEST(CornerOverlayTest, DrawsTheEdgesTheChosenPosePredicts) {
   EXPECT_LT(WhiteAlongPrediction(drawn_located, k, turned), 0.2);
   // The located pose's own curves lie on the measured edges.
   EXPECT_GT(WhiteAlongPrediction(drawn_located, k, *located), 0.8);
+}
+
+// An error (or a suspect reason) wider than the picture is broken into lines that stay
+// inside it, rather than running off its right edge.
+TEST(CornerOverlayTest, ALongErrorIsWrappedInsideThePicture) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  const cv::Mat black = cv::Mat::zeros(480, 640, CV_8UC1);
+  const Result<CornerLocation> error = MakeError(
+      ErrorCode::kNotFound,
+      "no ceiling corner found: 3 straight edges found; 2 meet at (499, 181) px but the "
+      "surfaces around them are saturated (white or black clipped), which hides the third; "
+      "lower the exposure or gain");
+  const cv::Mat drawn = DrawCornerOverlay(black, k, error);
+  cv::Mat grey;
+  cv::cvtColor(drawn, grey, cv::COLOR_BGR2GRAY);
+  // Nothing drawn in the right margin...
+  EXPECT_EQ(cv::countNonZero(grey.colRange(grey.cols - 8, grey.cols)), 0);
+  // ...and the text runs on over several lines: drawn rows reach well below the first line.
+  int lowest_drawn_row = 0;
+  for (int y = 0; y < grey.rows; ++y)
+    if (cv::countNonZero(grey.row(y)) > 0) lowest_drawn_row = y;
+  EXPECT_GT(lowest_drawn_row, 32 + 2 * 30);
 }
 
 }  // namespace

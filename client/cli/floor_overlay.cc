@@ -1,5 +1,7 @@
 #include "client/cli/floor_overlay.h"
 
+#include "client/cli/overlay_text.h"
+
 #include <cmath>
 #include <functional>
 #include <iomanip>
@@ -24,9 +26,7 @@ cv::Point2d P(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
 
 void Label(cv::Mat& image, const std::string& text, cv::Point at, const cv::Scalar& colour,
            double scale = 0.55) {
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), 3,
-              cv::LINE_AA);
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+  PutOutlinedText(image, text, at, scale, colour, 1);
 }
 
 // Projects a camera-frame point, or nothing where the lens model would fold it back into the

@@ -16,6 +16,7 @@
 #include "client/cli/commands.h"
 #include "client/cli/floor_overlay.h"
 #include "client/cli/live.h"
+#include "client/cli/overlay_text.h"
 #include "client/protocol/dds.h"
 #include "client/protocol/wire.h"
 #include "idl/ros2_messages.h"
@@ -59,9 +60,7 @@ struct LiveFrame {
 
 void PutText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
              const cv::Scalar& colour) {
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), 4,
-              cv::LINE_AA);
-  cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+  PutOutlinedText(image, text, at, scale, colour, 1);
 }
 
 // The corner camera's picture: the pose of this very frame (or why there is none).
@@ -72,7 +71,7 @@ void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::option
     return;
   }
   if (!pose->valid) {
-    PutText(image, "no corner: " + pose->error, {12, 32}, 0.6, cv::Scalar(0, 0, 255));
+    PutWrappedText(image, "no corner: " + pose->error, {12, 32}, 0.6, cv::Scalar(0, 0, 255), 1);
     return;
   }
   const CornerPose p{pose->x_m,     pose->y_m,      pose->z_m,
@@ -108,8 +107,10 @@ void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::option
          << std::sqrt(pose->covariance[6]) * 1000 << " mm  rms " << std::setprecision(2)
          << pose->rms_px << " px  " << (pose->tracked ? "tracked" : "detected");
   PutText(image, second.str(), {12, 62}, 0.6, cv::Scalar(0, 255, 255));
-  if (pose->suspect)
-    PutText(image, "SUSPECT: " + pose->suspect_reason, {12, 90}, 0.6, cv::Scalar(0, 0, 255));
+  if (pose->suspect) {
+    PutWrappedText(image, "SUSPECT: " + pose->suspect_reason, {12, 90}, 0.6, cv::Scalar(0, 0, 255),
+                   1);
+  }
 }
 
 }  // namespace
