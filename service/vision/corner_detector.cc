@@ -642,8 +642,8 @@ bool ClippedAlong(const cv::Mat& grey, const Eigen::Vector2d& from, const Eigen:
 // degree off; a straight ray would leave a long edge long before the border, and lens
 // distortion bends the edge away from any straight ray.
 std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2d& corner,
-                                       Eigen::Vector2d direction, double min_step) {
-  constexpr int kSpacing = 2;
+                                       Eigen::Vector2d direction, double min_step, int spacing_px) {
+  const int kSpacing = std::max(spacing_px, 1);
   constexpr double kChunk = 32, kMemory = 300;
   std::vector<EdgePointSample> found;
   Eigen::Vector2d origin = corner;  // the current line passes here along `direction`
@@ -726,9 +726,10 @@ bool SaturatedAround(const cv::Mat& grey, const Eigen::Vector2d& center) {
 // Subpixel edge points at full resolution along each edge of one Y, from just off the corner
 // (where the three edges blur into each other) to the image border.
 template <typename ToFull>
-Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges out,
+Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, int spacing_px, CornerEdges out,
                              const ToFull& to_full, double min_step) {
   out.corner_px = to_full(y.corner);
+  out.sample_spacing_px = spacing_px;
   for (int m = 0; m < 3; ++m) {
     // The ray's direction in the image, where it leaves the corner.
     const Eigen::Vector2d d =
@@ -736,7 +737,7 @@ Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges 
     out.direction[m] = d;
     out.points_px[m].clear();
     out.step_grey[m].clear();
-    const auto samples = TraceEdge(grey, out.corner_px, d, min_step);
+    const auto samples = TraceEdge(grey, out.corner_px, d, min_step, spacing_px);
     for (const auto& sample : samples) {
       out.points_px[m].push_back(sample.point_px);
       out.step_grey[m].push_back(sample.step_grey);
@@ -744,10 +745,12 @@ Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, CornerEdges 
     out.blur_sigma_px[m] = EdgeBlurSigmaPx(samples);
     // Polarity: the sign most points near the corner have.
     int votes = 0;
-    for (size_t i = 0; i < out.points_px[m].size() && i < 40; ++i)
+    for (size_t i = 0;
+         i < out.points_px[m].size() && static_cast<int>(i) < 80 / std::max(spacing_px, 1); ++i)
       votes += out.step_grey[m][i] > 0 ? 1 : -1;
     out.polarity[m] = votes >= 0 ? 1 : -1;
-    if (out.points_px[m].size() < 10) {
+    // Fewer points than 20 px of edge hold.
+    if (static_cast<int>(out.points_px[m].size()) * spacing_px < 20) {
       if (SaturatedAround(grey, out.corner_px)) {
         return MakeError(ErrorCode::kNotFound,
                          "a corner edge cannot be measured: the surfaces around the corner are "
@@ -877,7 +880,7 @@ std::optional<Error> TryScale(const cv::Mat& grey, ScaledFrames& frames,
   // (clutter or shading that looked like an edge at low resolution) is passed over.
   std::optional<Error> why;
   for (const auto& y : candidates) {
-    auto edges = MeasureY(grey, y, out, to_full, min_step);
+    auto edges = MeasureY(grey, y, options.trace_spacing_px, out, to_full, min_step);
     if (!edges) {
       if (!why) why = edges.error();
       continue;

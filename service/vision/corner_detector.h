@@ -37,6 +37,12 @@ struct CornerDetectorOptions {
   // Look for the Y at a quarter of the resolution first (images >= 800 px on each side),
   // then at half when nothing found there is accepted. False: half only.
   bool quarter_resolution_first = true;
+  // Edge points along each edge's trace from the corner to the border, every this many
+  // pixels (full resolution). The trace only guides the locator's second pass, which
+  // measures the edge again every 2 px along the line fitted to the trace: every 4 px was as
+  // accurate as every 2 over ten realistic seeds and takes a tenth less time per frame
+  // (README, "A fourth sitting").
+  int trace_spacing_px = 4;
 };
 
 // One image line found by the Hough stage (half resolution is hidden from callers).
