@@ -48,7 +48,8 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            error
   --overlay DIR            write DIR/<image>.overlay.png: the edges measured (thick), the
                            edges the pose predicts (thin white, to the border), each edge's
-                           support (length, coverage, contrast/noise, misfit), the pose
+                           support (length, coverage, contrast/noise, misfit), the pose;
+                           without a pose, the straight edges seen and why
   --track                  the images are an ordered sequence (frames of a video): predict
                            the three edges from the previous pose and measure them there
                            first; a full detection when that fails, when the tracked pose is

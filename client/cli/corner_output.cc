@@ -10,6 +10,7 @@
 
 #include "client/cli/overlay_text.h"
 #include "service/io/image_codec.h"
+#include "service/vision/corner_detector.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
@@ -73,6 +74,12 @@ cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsic
        << result->pose.swing_rad * kDeg << " deg";
     text = os.str();
   } else {
+    // No pose: the straight edges the detector saw, to look at beside its reason (which
+    // counts them: "3 straight edges found; 2 meet at ...").
+    for (const auto& s : DetectStraightEdges(grey, {}, &intrinsics))
+      cv::line(color, Pt(s.a_px), Pt(s.b_px), cv::Scalar(0, 200, 255), 2, cv::LINE_AA);
+    PutOutlinedText(color, "orange: straight segments seen", cv::Point(12, color.rows - 14), 0.5,
+                    cv::Scalar(255, 255, 255), 1);
     text = result.error().message;
   }
   int y = PutWrappedText(color, text, cv::Point(12, 32), 0.8, cv::Scalar(0, 255, 255), 2);

@@ -81,5 +81,43 @@ TEST(CornerOverlayTest, ALongErrorIsWrappedInsideThePicture) {
   EXPECT_GT(lowest_drawn_row, 32 + 2 * 30);
 }
 
+// Without a pose, the overlay still shows what the detector saw: its straight segments
+// (orange) lie on the corner's edges, which a picture without edges does not get.
+TEST(CornerOverlayTest, WithoutAPoseTheStraightSegmentsSeenAreDrawn) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  std::mt19937_64 rng(2024);
+  const auto pose = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/false);
+  ASSERT_TRUE(pose);
+  CornerScene scene;
+  scene.room_height_m = pose->z_m + 1.2;
+  const cv::Mat image = RenderCornerScene(k, *pose, scene);
+  const Result<CornerLocation> error =
+      MakeError(ErrorCode::kNotFound, "no ceiling corner found (as if)");
+  auto orange_on_edges = [&](const cv::Mat& drawn) {
+    int orange = 0, total = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const auto& p : PredictEdgePx(k, *pose, axis, 7)) {
+        if (p.y() < 120 || p.y() > k.height_px - 40 || p.x() < 2 || p.x() > k.width_px - 3)
+          continue;
+        ++total;
+        // Within 2 px of the edge (the segments are drawn 2 px wide).
+        bool near = false;
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            const cv::Vec3b c = drawn.at<cv::Vec3b>(static_cast<int>(std::lround(p.y())) + dy,
+                                                    static_cast<int>(std::lround(p.x())) + dx);
+            near |= c[0] < 80 && c[1] > 150 && c[2] > 220;
+          }
+        orange += near;
+      }
+    }
+    return total > 0 ? static_cast<double>(orange) / total : 0;
+  };
+  EXPECT_GT(orange_on_edges(DrawCornerOverlay(image, k, error)), 0.7);
+  EXPECT_LT(
+      orange_on_edges(DrawCornerOverlay(cv::Mat(image.size(), CV_8UC1, cv::Scalar(128)), k, error)),
+      0.05);
+}
+
 }  // namespace
 }  // namespace monocle::cli
