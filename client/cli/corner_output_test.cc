@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 
 #include "camera/render/corner_renderer.h"
@@ -34,14 +35,26 @@ double WhiteAlongPrediction(const cv::Mat& overlay, const CameraIntrinsics& k,
   return total > 0 ? static_cast<double>(white) / total : 0;
 }
 
-TEST(CornerOverlayTest, DrawsTheEdgesTheChosenPosePredicts) {
-  const CameraIntrinsics k = testing::PaperCamera();
+// A clean render of a corner in the paper camera, and its true pose.
+struct RenderedCorner {
+  CornerPose pose;
+  cv::Mat image;
+};
+std::optional<RenderedCorner> RenderACorner(const CameraIntrinsics& k) {
   std::mt19937_64 rng(2024);
   const auto pose = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/false);
-  ASSERT_TRUE(pose);
+  if (!pose) return std::nullopt;
   CornerScene scene;
   scene.room_height_m = pose->z_m + 1.2;
-  const cv::Mat image = RenderCornerScene(k, *pose, scene);
+  return RenderedCorner{*pose, RenderCornerScene(k, *pose, scene)};
+}
+
+TEST(CornerOverlayTest, DrawsTheEdgesTheChosenPosePredicts) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  const auto rendered = RenderACorner(k);
+  ASSERT_TRUE(rendered);
+  const CornerPose* pose = &rendered->pose;
+  const cv::Mat& image = rendered->image;
   auto located = LocateCorner(image, k, pose->z_m);
   ASSERT_TRUE(located.ok()) << located.error();
 
@@ -85,12 +98,10 @@ TEST(CornerOverlayTest, ALongErrorIsWrappedInsideThePicture) {
 // (orange) lie on the corner's edges, which a picture without edges does not get.
 TEST(CornerOverlayTest, WithoutAPoseTheStraightSegmentsSeenAreDrawn) {
   const CameraIntrinsics k = testing::PaperCamera();
-  std::mt19937_64 rng(2024);
-  const auto pose = testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/false);
-  ASSERT_TRUE(pose);
-  CornerScene scene;
-  scene.room_height_m = pose->z_m + 1.2;
-  const cv::Mat image = RenderCornerScene(k, *pose, scene);
+  const auto rendered = RenderACorner(k);
+  ASSERT_TRUE(rendered);
+  const CornerPose* pose = &rendered->pose;
+  const cv::Mat& image = rendered->image;
   const Result<CornerLocation> error =
       MakeError(ErrorCode::kNotFound, "no ceiling corner found (as if)");
   auto orange_on_edges = [&](const cv::Mat& drawn) {

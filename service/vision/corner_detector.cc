@@ -643,7 +643,7 @@ bool ClippedAlong(const cv::Mat& grey, const Eigen::Vector2d& from, const Eigen:
 // distortion bends the edge away from any straight ray.
 std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2d& corner,
                                        Eigen::Vector2d direction, double min_step, int spacing_px) {
-  const int kSpacing = std::max(spacing_px, 1);
+  const int spacing = std::max(spacing_px, 1);
   constexpr double kChunk = 32, kMemory = 300;
   std::vector<EdgePointSample> found;
   Eigen::Vector2d origin = corner;  // the current line passes here along `direction`
@@ -655,7 +655,7 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
   while (misses < 8) {
     positions.clear();
     bool inside = true;
-    for (double s = 0; s < kChunk; s += kSpacing, t += kSpacing) {
+    for (double s = 0; s < kChunk; s += spacing, t += spacing) {
       const Eigen::Vector2d p = origin + t * direction;
       if (p.x() < 0 || p.y() < 0 || p.x() > grey.cols - 1 || p.y() > grey.rows - 1) {
         inside = false;
@@ -667,7 +667,7 @@ std::vector<EdgePointSample> TraceEdge(const cv::Mat& grey, const Eigen::Vector2
                            ? std::vector<EdgePointSample>{}
                            : MajoritySign(MeasureEdgeStretch(grey, positions.front(), direction,
                                                              static_cast<int>(positions.size()),
-                                                             kSpacing, 4, 0, min_step));
+                                                             spacing, 4, 0, min_step));
     // An empty chunk where the image is clipped beside the line is no evidence that the edge
     // ended: a lamp's glare whitens the walls near the ceiling, and no point can be measured
     // beside a clipped side, but the edge shows again beyond the glare.
