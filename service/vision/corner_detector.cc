@@ -756,6 +756,14 @@ Result<CornerEdges> MeasureY(const cv::Mat& grey, const YTriple& y, int spacing_
                          "a corner edge cannot be measured: the surfaces around the corner are "
                          "saturated (white or black clipped); lower the exposure or gain");
       }
+      // Glare along the edge rather than around the corner: no point is measured beside a
+      // clipped side, however clear the edge looks.
+      if (ClippedAlong(grey, out.corner_px + 8 * d, out.corner_px + 200 * d)) {
+        return MakeError(ErrorCode::kNotFound,
+                         "a corner edge cannot be measured: a surface beside it is saturated "
+                         "(white or black clipped) over most of its first 200 px; lower the "
+                         "exposure or gain");
+      }
       return MakeError(ErrorCode::kNotFound, "a corner edge has too little contrast to measure (" +
                                                  std::to_string(out.points_px[m].size()) +
                                                  " points with a step of at least " +
