@@ -457,13 +457,18 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     }
     obs.spread = std::sqrt(spread2 / std::max(weights, 1e-9));
     // Each point averages the image over 7 px along the edge and they are 2 px apart: about
-    // 2/7 of them carry independent noise. (Weighting each line by its own scatter instead of
-    // the pooled one made the median error 40 % worse on the realistic development set.)
+    // 2/7 of them carry independent noise.
     obs.independent_points =
         std::max(2.0, obs.num_points * std::min(1.0, spacing_px[m] / kProfileWindowPx));
-    // Its own scatter sets its share of the covariance (not its weight, above); its direction
-    // is only as certain as the points that follow each other from the corner make it.
+    // Each line is weighted by its own points' scatter: in a white room one edge's points
+    // often scatter 3-8x another's (contrast 10 against 40 grey levels), and with one pooled
+    // scatter a short faint edge pulled the corner as hard as a long clear one. (When the
+    // points were fitted with equal weights this was 40 % worse; since they are weighted by
+    // their step it is better: 356 development views, errors 8 % smaller, p90 0.65 -> 0.54 %.)
+    // Its direction is only as certain as the points that follow each other from the corner
+    // make it.
     obs.scatter_sigma_px = std::max(fits[m].normal_rms * focal, kMinPointSigmaPx);
+    obs.point_sigma_px = obs.scatter_sigma_px;
     obs.direction_sigma_scale = BeyondGapLeverage(fits[m], *corner, focal, MaxGapPx(spacing_px[m]));
     point_sigma2 += std::pow(fits[m].normal_rms * focal, 2) * obs.num_points;
     total_points += obs.num_points;

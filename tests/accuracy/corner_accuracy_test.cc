@@ -254,7 +254,8 @@ void ExpectRealisticGoals(const Stats& s) {
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
   // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors (measured 70 / 71 % on the
   // two test seeds, 68.8 and 70.8 % on fresh seeds 314159 and 577215; 59.9 / 72.7 % on the
-  // test seeds since the trace every 4 px, 66-76 % on eight other seeds).
+  // test seeds since the trace every 4 px, 66-76 % on eight other seeds; 68.3 / 75.8 % since
+  // each edge is weighted by its own scatter, 70-80 % on the five development seeds).
   EXPECT_GE(s.Coverage(), 0.58);
   EXPECT_LE(s.Coverage(), 0.78);
   // No estimator beats the Cramér–Rao bound: errors as small as its Gaussian's would give a
@@ -279,6 +280,8 @@ TEST(CornerAccuracyTest, RealisticRooms) {
   // pose flagged only as imprecise is not searched again at half resolution: median 0.115 %
   // (one flagged view crossed the middle), p95 2.58 %. Since the trace measures every 4 px:
   // median 0.121 %, p95 2.53 %, coverage 59.9 % (ten seeds as accurate as before, README).
+  // Since each edge is weighted by its own scatter: median 0.132 %, p95 2.55 % (not flagged
+  // 0.88 -> 0.53 %), coverage 68.3 %, error / bound 1.61 -> 1.49.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.035);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
@@ -514,8 +517,9 @@ TEST(CornerAccuracyTest, AFloorCornerTakenForTheCeilingsIsSuspect) {
 // 0.3 m from the other, tilt 65 degrees. The corner determines its distance weakly, and it
 // says so: a 1 sigma of 1.6-1.8 % of the distance. The pose was 5.3-5.6 % off, 3.1-3.4 sigma,
 // which an honest 1 sigma allows now and then (4.5 % since edge points are weighted by their
-// contrast). A pose whose 1 sigma is above 1.5 % of the distance (5 % within 3.3 sigma) is
-// flagged (CornerQualityOptions::max_relative_sigma); at the old limit, 2 %, it was not.
+// contrast, 3.8 % since each edge is weighted by its own scatter). A pose whose 1 sigma is
+// above 1.5 % of the distance (5 % within 3.3 sigma) is flagged
+// (CornerQualityOptions::max_relative_sigma); at the old limit, 2 %, it was not.
 TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
   const CameraIntrinsics k = testing::PaperCamera();
   const RealisticView view = RenderRealisticView(k, 271828, 20);
@@ -523,7 +527,7 @@ TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
   old_limit.max_relative_sigma = 0.02;
   const auto unflagged = LocateCorner(view.image, k, view.truth.z_m, {}, old_limit);
   ASSERT_TRUE(unflagged.ok()) << unflagged.error();
-  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), 0.04);
+  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), 0.035);
   EXPECT_FALSE(unflagged->suspect) << unflagged->suspect_reason;
   const auto got = LocateCorner(view.image, k, view.truth.z_m);
   ASSERT_TRUE(got.ok()) << got.error();
