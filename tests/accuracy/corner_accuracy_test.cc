@@ -248,8 +248,9 @@ void ExpectRealisticGoals(const Stats& s) {
   // distance, and the reported 1 sigma predicts about as many poses more than 1 % off as
   // there are. The Cramér–Rao bound (printed) says what any estimator could do from the same
   // edges: an efficient one would reach p95 0.35-0.89 % on the seeds measured, so the goal is
-  // within the information but needs the weak views measured near the bound; ours are 1.2-1.7x
-  // the bound's median (README, "What the edges allow").
+  // within the information but needs the weak views measured near the bound; ours are 1.3-1.5x
+  // the bound's median since each edge is weighted by its own scatter, 1.2-1.7x before
+  // (README, "What the edges allow").
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
   // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors (measured 70 / 71 % on the
