@@ -34,6 +34,11 @@ enum class Look { kClean, kCluttered, kRealistic, kRealisticRaw };
 struct Stats {
   int images = 0, located = 0, suspect = 0, unflagged_large = 0;
   int covered = 0, coverage_trials = 0;  // |error| < reported 1 sigma, for x and for y
+  int covered_2sigma = 0;                // |error| < 2 sigma, for x and for y
+  // Per pose whose reported horizontal 1 sigma is over 0.5 % of the distance (the weakly
+  // determined views, where the large errors are): the mean over x and y of (error / 1 sigma)^2,
+  // which is 1 on average for an honest Gaussian 1 sigma.
+  std::vector<double> weak_view_z2;
   // Poses whose reported horizontal 1 sigma is over 1 % of the distance (the view's geometry
   // and edges allow no better), and how many of all poses are more than 1 % off.
   int sigma_over_1pct = 0, error_over_1pct = 0;
@@ -81,6 +86,14 @@ struct Stats {
     return v[std::min(v.size() - 1, static_cast<size_t>(q * v.size()))];
   }
   double Coverage() const { return static_cast<double>(covered) / std::max(coverage_trials, 1); }
+  double MeanWeakViewZ2() const {
+    double sum = 0;
+    for (double z2 : weak_view_z2) sum += z2 / static_cast<double>(weak_view_z2.size());
+    return sum;
+  }
+  double Coverage2Sigma() const {
+    return static_cast<double>(covered_2sigma) / std::max(coverage_trials, 1);
+  }
   void Print(const char* name) const {
     std::cout << std::setprecision(3) << name << ": pose for " << located << "/" << images
               << " images (" << suspect << " flagged suspect); horizontal error median "
@@ -92,7 +105,10 @@ struct Stats {
               << " deg; pan median " << Percentile(pan_deg, 0.5) << " p95 "
               << Percentile(pan_deg, 0.95) << " deg; swing median " << Percentile(swing_deg, 0.5)
               << " p95 " << Percentile(swing_deg, 0.95) << " deg; 1 sigma of x, y covers "
-              << 100 * Coverage() << " % of the errors; unflagged > 5 %: " << unflagged_large
+              << 100 * Coverage() << " % of the errors, 2 sigma " << 100 * Coverage2Sigma()
+              << " %; on the " << weak_view_z2.size()
+              << " views whose 1 sigma is over 0.5 %, (error / 1 sigma)^2 averages "
+              << MeanWeakViewZ2() << " (1 if honest); unflagged > 5 %: " << unflagged_large
               << "; more than 1 % off: " << error_over_1pct << " (the 1 sigma predicts "
               << expected_over_1pct << ")"
               << ", reported 1 sigma over 1 %: " << sigma_over_1pct << "\n";
@@ -187,7 +203,13 @@ Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale 
     stats.swing_deg.push_back(AngleErrorDeg(got->pose.swing_rad, truth->swing_rad));
     const auto sigma = got->Sigma();
     stats.covered += (std::abs(g.x() - t.x()) < sigma[0]) + (std::abs(g.y() - t.y()) < sigma[1]);
+    stats.covered_2sigma +=
+        (std::abs(g.x() - t.x()) < 2 * sigma[0]) + (std::abs(g.y() - t.y()) < 2 * sigma[1]);
     stats.coverage_trials += 2;
+    if (std::hypot(sigma[0], sigma[1]) > 0.005 * t.norm()) {
+      stats.weak_view_z2.push_back(
+          0.5 * ((g - t).cwiseQuotient(Eigen::Vector2d(sigma[0], sigma[1]))).squaredNorm());
+    }
     stats.error_over_1pct += rel > 0.01;
     const double sigma2 = sigma[0] * sigma[0] + sigma[1] * sigma[1];
     stats.sigma_over_1pct += sigma2 > std::pow(0.01 * t.norm(), 2);
@@ -259,6 +281,20 @@ void ExpectRealisticGoals(const Stats& s) {
   // each edge is weighted by its own scatter, 70-80 % on the five development seeds).
   EXPECT_GE(s.Coverage(), 0.58);
   EXPECT_LE(s.Coverage(), 0.78);
+  // Honest in the tail too, where p95 lives: the large errors come from the weakly
+  // determined views, and their 1 sigma must say so, or a user would trust the poses to
+  // distrust. 2 sigma covers 95.4 % of a Gaussian's errors (140 trials: +-1.8 % by chance).
+  // Measured on 576 views of eight fresh seeds, 880001-880008, run once: 94.9 % (per seed
+  // 91-98 %), 3 sigma 99.5 %; on the views whose 1 sigma is over 0.5 % of the distance,
+  // (error / 1 sigma)^2 averages 0.86 (per seed 0.51-1.28, 11-15 views each), 0.73 on the
+  // development seeds; on the test seeds 95.1 / 94.7 % and 0.97 / 0.96 (raw 96.5 %, 0.93).
+  // With those views' 1 sigma halved, seed 2611's 2 sigma coverage still passed (95.1 ->
+  // 90.8 %) and so did its 1 sigma's (68.3 -> 61.3 %); the weak views' mean square did not
+  // (0.97 -> 2.24).
+  EXPECT_GE(s.Coverage2Sigma(), 0.90);
+  if (s.weak_view_z2.size() >= 5) {
+    EXPECT_LE(s.MeanWeakViewZ2(), 2.0) << "the weakly determined views' 1 sigma is too small";
+  }
   // No estimator beats the Cramér–Rao bound: errors as small as its Gaussian's would give a
   // median of 0.83 here, and sampling 70 views moves that by less than 0.1. Below 0.65 the
   // bound would be overstated (corner_edge_information_test checks it against the renderer).
