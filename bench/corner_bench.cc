@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench/corner_bench_frames.h"
+#include "service/vision/corner_level.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle {
@@ -210,6 +211,31 @@ void BM_ClosedFormOnly(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(SolveCornerClosedForm(rays, frames[0].truth.z_m));
 }
 BENCHMARK(BM_ClosedFormOnly)->Unit(benchmark::kMicrosecond);
+
+// What the mount's level adds to a located pose (--mount, level_sigma_deg): beside
+// BM_CornerPose's milliseconds, a few microseconds.
+void BM_MountLevel(benchmark::State& state) {
+  const auto& frames = Frames();
+  const auto located = LocateCorner(frames[0].image, testing::PaperCamera(), frames[0].truth.z_m);
+  if (!located) {
+    state.SkipWithError("frame 0 has no pose");
+    return;
+  }
+  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(located->pose).transpose();
+  const Eigen::Vector3d axis = corner_from_camera.col(2);
+  Eigen::Matrix3d base;
+  base.col(0) = Eigen::Vector3d(axis.x(), axis.y(), 0).normalized();
+  base.col(2) = -Eigen::Vector3d::UnitZ();
+  base.col(1) = base.col(2).cross(base.col(0));
+  const RigidTransform mount{Eigen::Quaterniond(base.transpose() * corner_from_camera), {}};
+  for (auto _ : state) {
+    CornerLocation c = *located;
+    ApplyMountLevel(mount, {}, {}, &c);
+    benchmark::DoNotOptimize(c.pose);
+  }
+  state.SetLabel("combine a located pose with its robot's level (an iterated update)");
+}
+BENCHMARK(BM_MountLevel)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace monocle

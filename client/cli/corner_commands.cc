@@ -21,6 +21,7 @@
 #include "service/geometry/map_pose_tracker.h"
 #include "service/io/calibration_file.h"
 #include "service/io/room_map_file.h"
+#include "service/vision/corner_level.h"
 #include "service/vision/corner_locator.h"
 #include "service/vision/corner_tracker.h"
 
@@ -29,6 +30,7 @@ namespace {
 
 constexpr const char* kLocateHelp =
     R"(Usage: monocle corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z]
+                             [--mount MOUNT.pbtxt [--level-sigma DEG]]
                              [--json] [--overlay DIR] [--track [--detect-every N]]
        monocle corner locate IMAGE... --calibration CAL.pbtxt --map MAP.pbtxt --mount MOUNT.pbtxt
                              [--prior X,Y,HEADING_DEG] [--track] [--json] [--overlay DIR]
@@ -55,6 +57,16 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            first; a full detection when that fails, when the tracked pose is
                            suspect, and every --detect-every N images (default 30). Each
                            result says "tracked" or "detected".
+  --mount MOUNT.pbtxt      the camera rides a robot standing level (a CameraMount, e.g.
+                           idl/examples/camera_mount.pbtxt): the mount fixes the camera's tilt
+                           and swing, which are combined with the image's. The weakly
+                           determined views gain most (README "The mount's level"). A pose
+                           that tips the robot more than 1 degree from level is SUSPECT. JSON
+                           adds level_error_deg (how far the pose as solved tipped the robot)
+                           and level_sigma_deg
+  --level-sigma DEG        how level the robot stands: 1 sigma about each horizontal axis
+                           (the floor's slope, the suspension, the mount's own error), degrees
+                           (default 0.3); with --map too
 
 In a map (README "Room map"), instead of one corner's frame:
   --map MAP.pbtxt          the rooms and their ceiling corners (idl/room_map.proto); every
@@ -157,13 +169,23 @@ int LocateLive(const Args& args) {
   return kExitOk;
 }
 
+// --level-sigma DEG: how level the robot stands (1 sigma), radians; 0.3 degrees by default.
+Result<double> LevelSigmaRad(const Args& args) {
+  const auto deg = args.GetDouble("--level-sigma", 0.3);
+  if (!deg || !(*deg >= 0.01 && *deg <= 5))
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--level-sigma must be how level the robot stands, 1 sigma in degrees "
+                     "(0.01-5; default 0.3)");
+  return *deg * std::numbers::pi / 180;
+}
+
 // --map MAP --mount MOUNT: the map and the camera's mount, or nothing without --map.
-Result<std::optional<MapPoseTracker>> OpenMap(const Args& args) {
+Result<std::optional<MapPoseTracker>> OpenMap(const Args& args, double level_sigma_rad) {
   const auto map_path = args.Get("--map");
   const auto mount_path = args.Get("--mount");
   if (!map_path) {
-    if (mount_path || args.Get("--prior"))
-      return MakeError(ErrorCode::kInvalidArgument, "--mount and --prior need --map MAP.pbtxt");
+    if (args.Get("--prior"))
+      return MakeError(ErrorCode::kInvalidArgument, "--prior needs --map MAP.pbtxt");
     return std::optional<MapPoseTracker>();
   }
   if (!mount_path) {
@@ -180,7 +202,9 @@ Result<std::optional<MapPoseTracker>> OpenMap(const Args& args) {
   if (!map) return map.error();
   auto mount = LoadCameraMountFile(*mount_path, *map);
   if (!mount) return mount.error();
-  return std::optional<MapPoseTracker>(std::in_place, std::move(*map), *mount);
+  MapTrackerOptions options;
+  options.checks.level_sigma_rad = level_sigma_rad;
+  return std::optional<MapPoseTracker>(std::in_place, std::move(*map), *mount, options);
 }
 
 int Locate(const std::vector<std::string>& argv) {
@@ -188,10 +212,10 @@ int Locate(const std::vector<std::string>& argv) {
     std::cout << kLocateHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(
-      argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera", "--count", "--domain",
-              "--timeout", "--security", "--detect-every", "--map", "--mount", "--prior"},
-             {"--json", "--follow", "--track"}});
+  auto args = Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera",
+                                  "--count", "--domain", "--timeout", "--security",
+                                  "--detect-every", "--map", "--mount", "--prior", "--level-sigma"},
+                                 {"--json", "--follow", "--track"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->Has("--camera")) return LocateLive(*args);
   if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
@@ -199,8 +223,10 @@ int Locate(const std::vector<std::string>& argv) {
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);
   const auto calibration = LoadCalibrationFile(*cal_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
+  const auto level_sigma_rad = LevelSigmaRad(*args);
+  if (!level_sigma_rad) return Fail(level_sigma_rad.error(), kExitUsage);
   std::optional<MapPoseTracker> in_map;
-  if (auto map = OpenMap(*args); !map) {
+  if (auto map = OpenMap(*args, *level_sigma_rad); !map) {
     return Fail(map.error(), map.error().code == ErrorCode::kInvalidArgument &&
                                      map.error().message.starts_with("--")
                                  ? kExitUsage
@@ -208,6 +234,16 @@ int Locate(const std::vector<std::string>& argv) {
   } else if (map->has_value()) {
     in_map.emplace(std::move(**map));
   }
+  // --mount without --map: the camera rides a robot on a level floor, which fixes its tilt
+  // and swing (the map combines the same level itself).
+  std::optional<RigidTransform> level_mount;
+  if (const auto mount_path = args->Get("--mount"); mount_path && !in_map) {
+    auto mount = LoadCameraMountFile(*mount_path, RoomMap{});
+    if (!mount) return Fail(mount.error(), kExitFailure);
+    level_mount = *mount;
+  }
+  MountLevelOptions level;
+  level.level_sigma_rad = *level_sigma_rad;
   // In a map each corner's ceiling distance follows from the mount: solve at any one of
   // them (the map scales the pose to each corner's).
   double zc =
@@ -260,6 +296,7 @@ int Locate(const std::vector<std::string>& argv) {
         : tracker ? tracker->Process(*image)
                   : LocateCorner(*image, calibration->intrinsics, zc, {}, quality);
     if (!image && tracker) tracker->Reset();  // a gap in the sequence
+    if (result && level_mount) ApplyMountLevel(*level_mount, level, quality, &*result);
     any_failed |= !result.ok();
     std::optional<MapLocation> where;
     if (in_map) {

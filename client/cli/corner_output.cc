@@ -161,6 +161,10 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
   if (r->suspect) out.set_suspect_reason(r->suspect_reason);
   out.set_noise_grey(r->noise_sigma_grey);
   if (r->edges.detection_scale > 0) out.set_detection_scale(r->edges.detection_scale);
+  if (r->level_error_rad) {
+    out.set_level_error_deg(*r->level_error_rad * 180 / std::numbers::pi);
+    out.set_level_sigma_deg(r->level_sigma_rad * 180 / std::numbers::pi);
+  }
   return out;
 }
 
@@ -174,6 +178,10 @@ std::string CornerResultLine(const std::string& label, const CornerLocation& res
      << s[3] << " " << s[4] << " rad)  corner " << std::setprecision(1) << result.corner_px.x()
      << "," << result.corner_px.y() << " px  rms " << std::setprecision(3) << result.rms_px
      << " px  " << ToString(result.source);
+  if (result.level_error_rad) {
+    os << std::setprecision(2) << "  level " << *result.level_error_rad * 180 / std::numbers::pi
+       << " deg off as solved (1σ " << result.level_sigma_rad * 180 / std::numbers::pi << " deg)";
+  }
   if (result.suspect) os << "  SUSPECT: " << result.suspect_reason;
   return os.str();
 }

@@ -175,42 +175,6 @@ MapPoseCandidate PoseInMapFromCorner(const MapCorner& corner, const RigidTransfo
   return c;
 }
 
-LevelledCornerPose LevelWithMount(const CornerPose& pose,
-                                  const Eigen::Matrix<double, 5, 5>& covariance,
-                                  const RigidTransform& base_camera, double level_sigma_rad) {
-  // The base's axes in the corner frame (Z down): level when its up axis points along -Z.
-  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(pose).transpose();
-  const Eigen::Matrix3d mount = base_camera.rotation.toRotationMatrix();
-  const Eigen::Matrix3d corner_from_base = corner_from_camera * mount.transpose();
-  LevelledCornerPose out{pose, covariance, 0};
-  out.level_error_rad = std::acos(std::clamp(-corner_from_base(2, 2), -1.0, 1.0));
-  // The same heading, level: the camera's tilt and swing the mount implies.
-  const Eigen::Vector3d forward(corner_from_base(0, 0), corner_from_base(1, 0), 0);
-  if (forward.norm() < 1e-6) return out;  // the base's x axis vertical: no heading
-  Eigen::Matrix3d level;
-  level.col(0) = forward.normalized();
-  level.col(2) = -Eigen::Vector3d::UnitZ();
-  level.col(1) = level.col(2).cross(level.col(0));
-  const CornerPose implied = PoseFromRotation((level * mount).transpose(), CameraPosition(pose));
-  // A linear Gaussian update of (x, y, pan, tilt, swing) by the measurement (tilt, swing).
-  const Eigen::Vector2d residual(implied.tilt_rad - pose.tilt_rad,
-                                 WrapAngle(implied.swing_rad - pose.swing_rad));
-  const Eigen::Matrix<double, 5, 2> cross = covariance.block<5, 2>(0, 3);
-  const Eigen::Matrix2d innovation = covariance.block<2, 2>(3, 3) + level_sigma_rad *
-                                                                        level_sigma_rad *
-                                                                        Eigen::Matrix2d::Identity();
-  const Eigen::Matrix<double, 5, 2> gain = cross * innovation.inverse();
-  const Eigen::Matrix<double, 5, 1> step = gain * residual;
-  out.pose.x_m += step[0];
-  out.pose.y_m += step[1];
-  out.pose.pan_rad += step[2];
-  out.pose.tilt_rad += step[3];
-  out.pose.swing_rad += step[4];
-  out.covariance = covariance - gain * cross.transpose();
-  out.covariance = 0.5 * (out.covariance + out.covariance.transpose());
-  return out;
-}
-
 MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
                         const CornerPose& pose_as_solved,
                         const Eigen::Matrix<double, 5, 5>& covariance_as_solved,

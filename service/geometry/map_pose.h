@@ -21,6 +21,7 @@
 
 #include "service/geometry/camera_model.h"
 #include "service/geometry/corner_pose.h"
+#include "service/geometry/mount_level.h"
 #include "service/geometry/robot_frames.h"
 #include "service/geometry/room_map.h"
 
@@ -106,17 +107,6 @@ MapLocation LocateInMap(const RoomMap& map, const RigidTransform& base_camera,
                         const std::optional<MapPosePrior>& prior,
                         const SeenEdgeExtents& seen_extents = {},
                         const MapCheckOptions& checks = {});
-
-// The corner pose and covariance combined with the mount's tilt and swing on a level floor
-// (MapCheckOptions::level_sigma_rad), and how far from level the pose alone put the base.
-struct LevelledCornerPose {
-  CornerPose pose;
-  Eigen::Matrix<double, 5, 5> covariance;
-  double level_error_rad = 0;
-};
-LevelledCornerPose LevelWithMount(const CornerPose& pose,
-                                  const Eigen::Matrix<double, 5, 5>& covariance,
-                                  const RigidTransform& base_camera, double level_sigma_rad);
 
 // The same for one given corner (no consistency test): the corner pose scaled to the
 // corner's ceiling distance, and the camera and base in the map.

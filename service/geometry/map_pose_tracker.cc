@@ -35,7 +35,8 @@ MapLocation MapPoseTracker::Next(const CornerPose& pose,
                                  const SeenEdgeExtents& seen_extents) {
   const std::optional<MapPosePrior> prior = NextPrior();
   if (!prior) last_.reset();  // lost: the room alone decides
-  MapLocation where = LocateInMap(map_, base_camera_, pose, covariance, prior, seen_extents);
+  MapLocation where =
+      LocateInMap(map_, base_camera_, pose, covariance, prior, seen_extents, options_.checks);
   if (where.decided()) {
     SetPose(where.consistent.front().base);
     relocating_.reset();

@@ -30,6 +30,8 @@ struct MapTrackerOptions {
   // candidate each, each within the gates of the one before, and that candidate becomes the
   // prior again (the frames themselves stay undecided: reported, not published).
   int frames_to_relocate = 3;
+  // The mount's level and the other checks of each placed pose.
+  MapCheckOptions checks;
 };
 
 class MapPoseTracker {

@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "camera/aravis/reconnecting_source.h"
+#include "service/vision/corner_level.h"
 
 namespace monocle {
 namespace {
@@ -56,7 +57,9 @@ CameraWorker::~CameraWorker() { Stop(); }
 void CameraWorker::Start() {
   acquisition_ = std::thread([this] { Acquire(); });
   if (setup_.room_map && setup_.mount) {
-    map_tracker_.emplace(*setup_.room_map, MountTransform(*setup_.mount));
+    MapTrackerOptions options;
+    if (setup_.level_sigma_rad) options.checks.level_sigma_rad = *setup_.level_sigma_rad;
+    map_tracker_.emplace(*setup_.room_map, MountTransform(*setup_.mount), options);
     if (setup_.initial_pose) map_tracker_->SetPose(*setup_.initial_pose);
   }
   if (setup_.corner()) processing_ = std::thread([this] { Process(); });
@@ -196,6 +199,12 @@ void CameraWorker::Process() {
     }
     out.corner = ceiling_m > 0 ? tracker_->Process(frame.grey)
                                : LocateCorner(frame.grey, intrinsics, ceiling_m, {}, quality);
+    // Without a map, the mount's level when configured (the map combines it itself).
+    if (out.corner && !map_tracker_ && setup_.mount && setup_.level_sigma_rad) {
+      MountLevelOptions level;
+      level.level_sigma_rad = *setup_.level_sigma_rad;
+      ApplyMountLevel(MountTransform(*setup_.mount), level, quality, &*out.corner);
+    }
     if (map_tracker_) {
       if (out.corner) {
         const CornerLocation& c = *out.corner;

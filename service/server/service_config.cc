@@ -255,6 +255,17 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
       cam.room_map_path = map_path.lexically_normal().string();
       cam.room_map = std::make_shared<const RoomMap>(std::move(*map));
     }
+    if (c.has_level_sigma_deg()) {
+      if (!cam.mount)
+        return errors.Camera(i, "level_sigma_deg",
+                             "needs the camera's mount on the robot (mount { base_frame "
+                             "translation_m rotation_xyzw }): the level fixes the camera's tilt "
+                             "and swing through it");
+      if (!(c.level_sigma_deg() >= 0.01 && c.level_sigma_deg() <= 5))
+        return errors.Camera(i, "level_sigma_deg",
+                             "must be how level the robot stands, 1 sigma in degrees (0.01-5)");
+      cam.level_sigma_rad = c.level_sigma_deg() * std::numbers::pi / 180;
+    }
     if (c.initial_pose_size() > 0) {
       if (!cam.room_map)
         return errors.Camera(i, "initial_pose", "needs a room_map to be a pose in");

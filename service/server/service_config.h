@@ -45,6 +45,8 @@ struct CameraSetup {
     std::array<double, 4> rotation_xyzw{0, 0, 0, 1};
   };
   std::optional<Mount> mount;
+  // How level the robot stands (level_sigma_deg), radians; set only if configured.
+  std::optional<double> level_sigma_rad;
   // A room map (README "Room map"), loaded and checked against the mount, and where the robot
   // starts in it.
   std::shared_ptr<const RoomMap> room_map;

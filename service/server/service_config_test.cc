@@ -46,6 +46,7 @@ camera {
   ros_parent_frame: "map"
   image_max_rate_hz: 2
   mount { base_frame: "base_link" translation_m: [0.2, 0, 1.1] rotation_xyzw: [0, 0, 0, 1.0004] }
+  level_sigma_deg: 0.2
 }
 )",
                                         "cfg", "/base");
@@ -71,6 +72,8 @@ camera {
   EXPECT_EQ(c.mount->base_frame, "base_link");
   EXPECT_DOUBLE_EQ(c.mount->translation_m[2], 1.1);
   EXPECT_DOUBLE_EQ(c.mount->rotation_xyzw[3], 1);  // normalised
+  ASSERT_TRUE(c.level_sigma_rad.has_value());
+  EXPECT_NEAR(*c.level_sigma_rad, 0.2 * M_PI / 180, 1e-15);
 }
 
 // Each broken file is rejected with its line and the field at fault.
@@ -108,6 +111,12 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
       {"camera { device: \"a\" role: CORNER calibration: \"y\"\n"
        "  mount { base_frame: \"b\" translation_m: [0, 0, 1] rotation_xyzw: [0, 0, 0, 2] } }\n",
        "camera[0].mount.rotation_xyzw must be a unit quaternion (its norm is 2"},
+      {"camera { device: \"a\" role: CORNER calibration: \"y\"\n  level_sigma_deg: 0.3 }\n",
+       "cfg: line 2: camera[0].level_sigma_deg needs the camera's mount on the robot"},
+      {"camera { device: \"a\" role: CORNER calibration: \"y\"\n"
+       "  mount { base_frame: \"b\" translation_m: [0, 0, 1] rotation_xyzw: [0, 0, 0, 1] }\n"
+       "  level_sigma_deg: 0 }\n",
+       "cfg: line 3: camera[0].level_sigma_deg must be how level the robot stands"},
       {"camera {\n  device: \"a\"\n  id: "
        "\"xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx"
        "xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\"\n}\n",

@@ -8,6 +8,7 @@
 #include <array>
 #include <numbers>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -58,6 +59,10 @@ struct CornerLocation {
   // other, so no other Y in the image would be the better answer.
   bool suspect_only_imprecise = false;
   CornerSource source = CornerSource::kDetected;
+  // With the mount's level (corner_level.h): how far the pose as solved tipped the robot
+  // base from level, before the two were combined, and the level's 1 sigma (radians).
+  std::optional<double> level_error_rad;
+  double level_sigma_rad = 0;
   CornerEdges edges;  // what the detector saw (overlays)
 
   Eigen::Matrix<double, 5, 1> Sigma() const { return covariance.diagonal().cwiseSqrt(); }

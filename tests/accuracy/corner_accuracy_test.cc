@@ -12,15 +12,18 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <optional>
 #include <random>
+#include <sstream>
 
 #include "camera/render/corner_renderer.h"
 #include "camera/render/reference_camera.h"
 #include "service/geometry/corner_test_scenes.h"
 #include "service/geometry/test_scenes.h"
+#include "service/vision/corner_level.h"
 #include "service/vision/corner_locator.h"
 #include "tests/accuracy/corner_edge_information.h"
 
@@ -30,6 +33,10 @@ namespace {
 // kRealisticRaw: the realistic look without the JPEG step, as a GigE or USB3 camera
 // delivers frames through Aravis.
 enum class Look { kClean, kCluttered, kRealistic, kRealisticRaw };
+
+// How level the robot stands, 1 sigma about each horizontal axis, degrees: a well-levelled
+// floor and mount, and the room map's default.
+constexpr double kLevelSigmasDeg[] = {0.1, 0.3};
 
 struct Stats {
   int images = 0, located = 0, suspect = 0, unflagged_large = 0;
@@ -53,6 +60,9 @@ struct Stats {
   // root of the trace).
   std::vector<double> bound_rel, reported_rel, distance_m;
   std::vector<Eigen::Matrix2d> bound_xy_m2;
+  // Realistic looks: the same poses combined with the level of a robot they are mounted on
+  // (ApplyMountLevel), for each level 1 sigma (degrees) of kLevelSigmasDeg.
+  std::vector<std::pair<double, Stats>> levelled;
 
   // The p95 of the relative error an efficient estimator (one whose errors are the bound's
   // Gaussian) makes over these views: the median over many draws.
@@ -165,12 +175,66 @@ Eigen::Matrix2d HorizontalBound(const CameraIntrinsics& k, const CornerPose& tru
   return testing::HorizontalPositionBound(information);
 }
 
+// One located pose's errors, against the truth, into `stats`.
+void Record(const CornerLocation& got, const CornerPose& truth, Stats* stats_out) {
+  Stats& stats = *stats_out;
+  ++stats.located;
+  stats.suspect += got.suspect;
+  const Eigen::Vector2d t(truth.x_m, truth.y_m), g(got.pose.x_m, got.pose.y_m);
+  const double rel = (g - t).norm() / t.norm();
+  stats.horizontal_rel.push_back(rel);
+  if (!got.suspect) stats.horizontal_rel_trusted.push_back(rel);
+  stats.tilt_deg.push_back(AngleErrorDeg(got.pose.tilt_rad, truth.tilt_rad));
+  stats.pan_deg.push_back(AngleErrorDeg(got.pose.pan_rad, truth.pan_rad));
+  stats.swing_deg.push_back(AngleErrorDeg(got.pose.swing_rad, truth.swing_rad));
+  const auto sigma = got.Sigma();
+  stats.covered += (std::abs(g.x() - t.x()) < sigma[0]) + (std::abs(g.y() - t.y()) < sigma[1]);
+  stats.covered_2sigma +=
+      (std::abs(g.x() - t.x()) < 2 * sigma[0]) + (std::abs(g.y() - t.y()) < 2 * sigma[1]);
+  stats.coverage_trials += 2;
+  if (std::hypot(sigma[0], sigma[1]) > 0.005 * t.norm()) {
+    stats.weak_view_z2.push_back(
+        0.5 * ((g - t).cwiseQuotient(Eigen::Vector2d(sigma[0], sigma[1]))).squaredNorm());
+  }
+  stats.error_over_1pct += rel > 0.01;
+  const double sigma2 = sigma[0] * sigma[0] + sigma[1] * sigma[1];
+  stats.sigma_over_1pct += sigma2 > std::pow(0.01 * t.norm(), 2);
+  stats.expected_over_1pct += std::exp(-std::pow(0.01 * t.norm(), 2) / sigma2);
+  if (rel > 0.05) {
+    stats.unflagged_large += !got.suspect;
+    std::cout << "large error " << 100 * rel << " %: truth " << truth << " got " << got << "\n";
+  }
+}
+
+// The mount of a camera at `truth` on a robot base standing level, told to the locator,
+// when the base in fact stands tipped by `tip_x_rad`, `tip_y_rad` about the corner frame's X
+// and Y axes (the floor's slope): the base's heading is the camera's, and the mount is the
+// truth's orientation in the level base. Written from the rotation alone.
+RigidTransform LevelMountOf(const CornerPose& truth, double tip_x_rad, double tip_y_rad) {
+  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(truth).transpose();
+  const Eigen::Vector3d axis = corner_from_camera.col(2);
+  Eigen::Matrix3d corner_from_level_base;
+  corner_from_level_base.col(0) = Eigen::Vector3d(axis.x(), axis.y(), 0).normalized();
+  corner_from_level_base.col(2) = -Eigen::Vector3d::UnitZ();  // up: the corner frame's Z is down
+  corner_from_level_base.col(1) =
+      corner_from_level_base.col(2).cross(corner_from_level_base.col(0));
+  const Eigen::Matrix3d corner_from_base = (Eigen::AngleAxisd(tip_x_rad, Eigen::Vector3d::UnitX()) *
+                                            Eigen::AngleAxisd(tip_y_rad, Eigen::Vector3d::UnitY()))
+                                               .toRotationMatrix() *
+                                           corner_from_level_base;
+  RigidTransform mount;
+  mount.rotation = Eigen::Quaterniond(corner_from_base.transpose() * corner_from_camera);
+  return mount;
+}
+
 // `ceiling_scale`: the ceiling distance given to the locator, relative to the truth.
 // `with_bound`: also compute each located view's Cramér–Rao bound (realistic looks only).
 Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale = 1.0,
                       bool with_bound = false) {
   const CameraIntrinsics k = testing::PaperCamera();
   std::mt19937_64 rng(seed);
+  std::mt19937_64 tip_rng(seed + 99);
+  std::normal_distribution<double> tip_normal;
   Stats stats;
   for (int i = 0; i < count; ++i) {
     const auto truth = look == Look::kRealistic || look == Look::kRealisticRaw
@@ -181,42 +245,35 @@ Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale 
     const cv::Mat image = RenderCornerScene(k, *truth, scene);
     ++stats.images;
     const auto got = LocateCorner(image, k, ceiling_scale * truth->z_m);
+    const bool realistic = look == Look::kRealistic || look == Look::kRealisticRaw;
+    const double tip_x = tip_normal(tip_rng), tip_y = tip_normal(tip_rng);
+    if (realistic && stats.levelled.empty())
+      for (double sigma_deg : kLevelSigmasDeg) stats.levelled.push_back({sigma_deg, {}});
+    for (auto& levelled : stats.levelled) ++levelled.second.images;
     if (!got) {
       std::cout << "no pose: " << got.error() << " for " << *truth << "\n";
       continue;
     }
-    ++stats.located;
-    stats.suspect += got->suspect;
-    const Eigen::Vector2d t(truth->x_m, truth->y_m), g(got->pose.x_m, got->pose.y_m);
-    const double rel = (g - t).norm() / t.norm();
-    stats.horizontal_rel.push_back(rel);
     if (with_bound) {
+      const Eigen::Vector2d t(truth->x_m, truth->y_m);
       const Eigen::Matrix2d bound = HorizontalBound(k, *truth, scene);
       stats.bound_xy_m2.push_back(bound);
       stats.bound_rel.push_back(std::sqrt(bound.trace()) / t.norm());
       stats.distance_m.push_back(t.norm());
       stats.reported_rel.push_back(std::hypot(got->Sigma()[0], got->Sigma()[1]) / t.norm());
     }
-    if (!got->suspect) stats.horizontal_rel_trusted.push_back(rel);
-    stats.tilt_deg.push_back(AngleErrorDeg(got->pose.tilt_rad, truth->tilt_rad));
-    stats.pan_deg.push_back(AngleErrorDeg(got->pose.pan_rad, truth->pan_rad));
-    stats.swing_deg.push_back(AngleErrorDeg(got->pose.swing_rad, truth->swing_rad));
-    const auto sigma = got->Sigma();
-    stats.covered += (std::abs(g.x() - t.x()) < sigma[0]) + (std::abs(g.y() - t.y()) < sigma[1]);
-    stats.covered_2sigma +=
-        (std::abs(g.x() - t.x()) < 2 * sigma[0]) + (std::abs(g.y() - t.y()) < 2 * sigma[1]);
-    stats.coverage_trials += 2;
-    if (std::hypot(sigma[0], sigma[1]) > 0.005 * t.norm()) {
-      stats.weak_view_z2.push_back(
-          0.5 * ((g - t).cwiseQuotient(Eigen::Vector2d(sigma[0], sigma[1]))).squaredNorm());
-    }
-    stats.error_over_1pct += rel > 0.01;
-    const double sigma2 = sigma[0] * sigma[0] + sigma[1] * sigma[1];
-    stats.sigma_over_1pct += sigma2 > std::pow(0.01 * t.norm(), 2);
-    stats.expected_over_1pct += std::exp(-std::pow(0.01 * t.norm(), 2) / sigma2);
-    if (rel > 0.05) {
-      stats.unflagged_large += !got->suspect;
-      std::cout << "large error " << 100 * rel << " %: truth " << *truth << " got " << *got << "\n";
+    Record(*got, *truth, &stats);
+    // The same pose from a camera on a robot (realistic looks): the floor tips the base by a
+    // fresh draw of each level's 1 sigma about each horizontal axis, and the mount the locator
+    // is given is the level one.
+    for (auto& [sigma_deg, levelled] : stats.levelled) {
+      const double sigma_rad = sigma_deg * std::numbers::pi / 180;
+      CornerLocation on_robot = *got;
+      MountLevelOptions level;
+      level.level_sigma_rad = sigma_rad;
+      ApplyMountLevel(LevelMountOf(*truth, sigma_rad * tip_x, sigma_rad * tip_y), level, {},
+                      &on_robot);
+      Record(on_robot, *truth, &levelled);
     }
   }
   return stats;
@@ -261,7 +318,8 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // NOT MET YET: the issue asks p95 <= 1 %. Measured 0.68-2.5 % over all poses and
+  // NOT MET from the image alone: the issue asks p95 <= 1 %. On a robot that stands level to
+  // 0.1 degrees it is met (ExpectLevelledGoals). Measured 0.68-2.5 % over all poses and
   // 0.60-1.14 % over the poses not flagged suspect (views with one short edge are weakly
   // determined; the worst say so with a 1 sigma of 2-6 %). Gated at ~2x the worst measured so
   // it cannot slip.
@@ -303,10 +361,42 @@ void ExpectRealisticGoals(const Stats& s) {
   }
 }
 
+// The same views from a camera on a robot standing level to 0.1 and 0.3 degrees (1 sigma
+// about each horizontal axis; the floor tipped by a fresh draw of it for each view): the
+// mount's level fixes what a weakly determined view leaves open, its tilt (README, "The
+// mount's level, without a map"). At 0.1 degrees issue 11's goals are met in full, p95 too;
+// at 0.3 (the room map's default) the tail gains less. In both the 1 sigma stays honest.
+void ExpectLevelledGoals(const Stats& s) {
+  ASSERT_EQ(s.levelled.size(), 2u);
+  for (const auto& [sigma_deg, l] : s.levelled) {
+    const std::string name =
+        "  on a robot level to " + std::to_string(sigma_deg).substr(0, 3) + " deg (1 sigma)";
+    l.Print(name.c_str());
+    EXPECT_EQ(l.located, s.located) << name;
+    EXPECT_LE(Stats::Percentile(l.horizontal_rel, 0.5), 0.003) << name;
+    EXPECT_LE(Stats::Percentile(l.tilt_deg, 0.5), 0.1) << name;
+    EXPECT_EQ(l.unflagged_large, 0) << name;
+    EXPECT_GE(l.Coverage(), 0.58) << name;
+    EXPECT_LE(l.Coverage(), 0.78) << name;
+    EXPECT_GE(l.Coverage2Sigma(), 0.90) << name;
+    if (l.weak_view_z2.size() >= 5) {
+      EXPECT_LE(l.MeanWeakViewZ2(), 2.0) << name;
+    }
+    // The level is information: no more poses far off than without it. (Not p95 itself: where
+    // a view's own tilt is as good as the level's, the tipped floor's draw can move the 95th
+    // percentile of 66 views either way; seed 90210 at 0.3 deg: 0.63 -> 0.74 %.)
+    EXPECT_LE(l.error_over_1pct, s.error_over_1pct) << name;
+    if (sigma_deg <= 0.1) {
+      EXPECT_LE(Stats::Percentile(l.horizontal_rel, 0.95), 0.01) << name;
+    }
+  }
+}
+
 TEST(CornerAccuracyTest, RealisticRooms) {
   const Stats s = RenderAndLocate(72, 2611, Look::kRealistic, 1.0, /*with_bound=*/true);
   s.Print("realistic");
   ExpectRealisticGoals(s);
+  ExpectLevelledGoals(s);
   // Regression gates, ~2.5x above this seed's first run (median 0.14 %, p95 2.6 %, tilt
   // 0.024 / 0.45 deg, pan 0.037 deg, swing 0.019 deg); the median's gate is the goal above.
   // Since edge points beside clipped (saturated) walls are refused: p95 1.9 %, tilt p95
@@ -330,6 +420,7 @@ TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
   const Stats s = RenderAndLocate(66, 90210, Look::kRealistic, 1.0, /*with_bound=*/true);
   s.Print("realistic, second seed");
   ExpectRealisticGoals(s);
+  ExpectLevelledGoals(s);
 }
 
 // The same views as RealisticRooms, uncompressed, as a machine-vision camera delivers them.
@@ -342,6 +433,7 @@ TEST(CornerAccuracyTest, RealisticRoomsFromARawCamera) {
   const Stats s = RenderAndLocate(72, 2611, Look::kRealisticRaw, 1.0, /*with_bound=*/true);
   s.Print("realistic, raw frames");
   ExpectRealisticGoals(s);
+  ExpectLevelledGoals(s);
   EXPECT_LE(s.suspect, 0.15 * s.located) << "faint but measurable edges flagged";
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.04);
 }

@@ -3,9 +3,12 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -126,6 +129,77 @@ TEST_F(PoseStreamTest, PoseQueriesAnswerTheLatestAndTheNextFrame) {
   ASSERT_FALSE(unknown.ok());
   EXPECT_EQ(unknown.error().code, ClientError::Code::kInvalidRequest);
   EXPECT_NE(unknown.error().message.find("unknown camera 'no-such-camera'"), std::string::npos);
+}
+
+// The CameraMount text of a camera looking ahead and up, `up_deg` from the vertical,
+// upright (written from the geometry here, not with monocle's code).
+std::string MountLookingUp(double up_deg) {
+  const double t = up_deg * M_PI / 180;
+  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t)), x(0, -1, 0);
+  Eigen::Matrix3d r;
+  r << x, z.cross(x), z;
+  const Eigen::Quaterniond q(r);
+  std::ostringstream text;
+  text << std::setprecision(12) << "mount { base_frame: \"base_link\" translation_m: [0.1, 0, 0.4] "
+       << "rotation_xyzw: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "] }";
+  return text.str();
+}
+
+// A camera on a robot standing level (a mount and level_sigma_deg): the service combines each
+// pose with the tilt and swing the mount gives. On a mount the camera does not sit on (3
+// degrees off) every pose is suspect, saying how far it tips the robot; on the right one
+// none is, and the poses keep to the truth.
+TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
+  constexpr int kLevelDomain = 25;
+  TempDir dir("monocle_level_stream");
+  // The robot turns and drives under the corner; its camera keeps the mount's 50 degrees.
+  const std::vector<std::array<double, 2>> xy = {{2.5, 1.2}, {2.4, 1.3}, {2.6, 1.1}, {2.3, 1.4}};
+  {
+    std::ofstream trajectory(dir / "level.txt");
+    for (size_t i = 0; i < xy.size(); ++i)
+      trajectory << xy[i][0] << "," << xy[i][1] << ",1.6," << 2.3 - 0.04 * i << ",0.872665,0\n";
+  }
+  testing::ChildProcess simcam(testing::MonocleBinary(),
+                               {"simcam", "--scene", "corner", "--trajectory", dir / "level.txt",
+                                "--calibration-out", dir / "sim.pbtxt"},
+                               dir / "simcam.log");
+  for (int i = 0; i < 1200 && !std::ifstream(dir / "sim.pbtxt"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
+  for (const double up_deg : {50.0, 53.0}) {
+    const bool wrong = up_deg != 50.0;
+    auto monocled = testing::StartMonocled(
+        dir, "domain: " + std::to_string(kLevelDomain) +
+                 "\ncamera { id: \"ceiling\" device: \"127.0.0.1\" role: CORNER calibration: "
+                 "\"sim.pbtxt\" " +
+                 MountLookingUp(up_deg) + " level_sigma_deg: 0.1 }\n");
+    const auto r = RunMonocle(dir,
+                              "corner locate --camera ceiling --count 4 --json --timeout 30 "
+                              "--domain " +
+                                  std::to_string(kLevelDomain));
+    ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir / "monocled.log");
+    std::stringstream lines(r.out);
+    int poses = 0;
+    for (std::string line; std::getline(lines, line); ++poses) {
+      proto::LivePoseOutput out;
+      ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok()) << line;
+      ASSERT_FALSE(out.pose().has_error()) << out.pose().error();
+      const auto& truth = xy[out.sequence() % xy.size()];
+      EXPECT_LT(std::hypot(out.pose().x() - truth[0], out.pose().y() - truth[1]) /
+                    std::hypot(truth[0], truth[1]),
+                wrong ? 0.05 : 0.01)
+          << "frame " << out.sequence() << " on a mount " << up_deg << " deg up";
+      EXPECT_EQ(out.pose().suspect(), wrong) << out.pose().suspect_reason();
+      if (wrong) {
+        EXPECT_NE(out.pose().suspect_reason().find("deg from level (allowed 1.00 deg;"),
+                  std::string::npos)
+            << out.pose().suspect_reason();
+      }
+    }
+    EXPECT_EQ(poses, 4);
+    EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
+  }
+  EXPECT_EQ(simcam.Stop(), 0);
 }
 
 TEST(PoseStreamNoServiceTest, NoServiceIsAClearError) {
