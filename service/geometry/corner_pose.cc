@@ -109,6 +109,15 @@ Eigen::Vector3d CornerToCamera(const CornerPose& pose, const Eigen::Vector3d& p_
   return RotationCameraFromCorner(pose) * (p_corner - CameraPosition(pose));
 }
 
+CornerPose MovedBy(CornerPose pose, const Eigen::Matrix<double, 5, 1>& change) {
+  pose.x_m += change[0];
+  pose.y_m += change[1];
+  pose.pan_rad += change[2];
+  pose.tilt_rad += change[3];
+  pose.swing_rad += change[4];
+  return pose;
+}
+
 CornerPose Canonical(const CornerPose& pose) {
   CornerPose out = pose;
   double tilt = WrapPi(pose.tilt_rad);

@@ -47,6 +47,10 @@ Eigen::Vector3d CornerToCamera(const CornerPose& pose, const Eigen::Vector3d& p_
 // Canonical angles: tilt in [0, pi), pan and swing in (-pi, pi].
 CornerPose Canonical(const CornerPose& pose);
 
+// The pose moved by `change` of (x, y, pan, tilt, swing), metres and radians: the order of a
+// corner pose's 5x5 covariance. Angles are not wrapped.
+CornerPose MovedBy(CornerPose pose, const Eigen::Matrix<double, 5, 1>& change);
+
 // A line u + b v + c = 0 in the paper's image coordinates (focal length 1).
 struct PaperLine {
   double b = 0, c = 0;

@@ -381,13 +381,7 @@ TEST(MapPoseTest, TheBaseCovarianceMatchesSampledCornerPoses) {
     Eigen::Matrix<double, 5, 1> e;
     for (int k = 0; k < 5; ++k) e[k] = n(rng);
     const Eigen::Matrix<double, 5, 1> d = l * e;
-    CornerPose p = seen;
-    p.x_m += d[0];
-    p.y_m += d[1];
-    p.pan_rad += d[2];
-    p.tilt_rad += d[3];
-    p.swing_rad += d[4];
-    const BasePose2d b = PoseInMapFromCorner(corner, mount, p, cov).base;
+    const BasePose2d b = PoseInMapFromCorner(corner, mount, MovedBy(seen, d), cov).base;
     values.emplace_back(b.x_m, b.y_m,
                         predicted.base.heading_rad +
                             std::remainder(b.heading_rad - predicted.base.heading_rad, 2 * M_PI));

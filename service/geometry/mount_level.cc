@@ -10,24 +10,14 @@ namespace {
 
 using Vector5d = Eigen::Matrix<double, 5, 1>;
 
-CornerPose Moved(const CornerPose& pose, const Vector5d& step) {
-  CornerPose out = pose;
-  out.x_m += step[0];
-  out.y_m += step[1];
-  out.pan_rad += step[2];
-  out.tilt_rad += step[3];
-  out.swing_rad += step[4];
-  return out;
-}
-
 // d(tip)/d(x, y, pan, tilt, swing) by central differences (the tip does not depend on x, y).
 Eigen::Matrix<double, 2, 5> TipJacobian(const CornerPose& pose, const RigidTransform& mount) {
   constexpr double kStepRad = 1e-6;
   Eigen::Matrix<double, 2, 5> jacobian = Eigen::Matrix<double, 2, 5>::Zero();
   for (int i = 2; i < 5; ++i) {
     const Vector5d step = Vector5d::Unit(i) * kStepRad;
-    jacobian.col(i) = (BaseTipInCornerFrame(Moved(pose, step), mount) -
-                       BaseTipInCornerFrame(Moved(pose, -step), mount)) /
+    jacobian.col(i) = (BaseTipInCornerFrame(MovedBy(pose, step), mount) -
+                       BaseTipInCornerFrame(MovedBy(pose, -step), mount)) /
                       (2 * kStepRad);
   }
   return jacobian;
@@ -66,7 +56,7 @@ LevelledCornerPose LevelWithMount(const CornerPose& pose,
         tip.dot((at_pose * covariance * at_pose.transpose() + level_covariance).ldlt().solve(tip));
   }
   for (int round = 0; round < 3; ++round) {
-    const CornerPose at = Moved(pose, step);
+    const CornerPose at = MovedBy(pose, step);
     jacobian = TipJacobian(at, base_camera);
     const Eigen::Matrix2d innovation =
         jacobian * covariance * jacobian.transpose() + level_covariance;
@@ -75,7 +65,7 @@ LevelledCornerPose LevelWithMount(const CornerPose& pose,
     const Eigen::Vector2d tip_at_pose = BaseTipInCornerFrame(at, base_camera) - jacobian * step;
     step = -gain * tip_at_pose;
   }
-  out.pose = Canonical(Moved(pose, step));
+  out.pose = Canonical(MovedBy(pose, step));
   out.covariance = covariance - gain * jacobian * covariance;
   out.covariance = 0.5 * (out.covariance + out.covariance.transpose());
   return out;

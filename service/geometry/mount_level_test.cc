@@ -54,15 +54,6 @@ Vector5d Difference(const CornerPose& a, const CornerPose& b) {
       .finished();
 }
 
-CornerPose Moved(CornerPose p, const Vector5d& d) {
-  p.x_m += d[0];
-  p.y_m += d[1];
-  p.pan_rad += d[2];
-  p.tilt_rad += d[3];
-  p.swing_rad += d[4];
-  return p;
-}
-
 // A weakly determined view's covariance: the tilt 0.6 degrees, x following it (2 m per
 // radian, correlation 0.9), swing and pan 0.4-0.6 degrees, y following the swing.
 Matrix5d WeakViewCovariance() {
@@ -97,7 +88,7 @@ TEST(MountLevelTest, APoseTippedAlongItsCovarianceIsTakenBack) {
   // The pose erred along the covariance's strongest direction: tilt 1 degree, x with it.
   const Vector5d along = (Vector5d() << 2, 0, 0, 1, 0).finished();
   const Matrix5d covariance = along * along.transpose() * 1e-4 + 1e-12 * Matrix5d::Identity();
-  const CornerPose solved = Moved(truth, along * kDeg);
+  const CornerPose solved = MovedBy(truth, along * kDeg);
   const LevelledCornerPose fixed = LevelWithMount(solved, covariance, mount, 1e-6);
   EXPECT_NEAR(fixed.level_error_rad, 1 * kDeg, 1e-6);
   EXPECT_LT(Difference(fixed.pose, truth).cwiseAbs().maxCoeff(), 1e-6);
@@ -123,7 +114,7 @@ void ExpectHonestCovariance(double up_deg) {
     Vector5d noise;
     for (int i = 0; i < 5; ++i) noise[i] = normal(rng);
     const LevelledCornerPose levelled =
-        LevelWithMount(Moved(truth, l * noise), covariance, mount, level_sigma);
+        LevelWithMount(MovedBy(truth, l * noise), covariance, mount, level_sigma);
     const Vector5d error = Difference(levelled.pose, truth);
     z2_sum += error.dot(levelled.covariance.ldlt().solve(error));
     ratio_sum += error.cwiseAbs2().cwiseQuotient(levelled.covariance.diagonal());

@@ -9,23 +9,14 @@
 namespace monocle {
 namespace {
 
-std::string Percent(double value) {
+// `value` with `decimals` digits after the point, as the messages print it.
+std::string Fixed(double value, int decimals) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f", 100 * value);
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
   return text;
 }
 
-std::string Degrees(double rad) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2f", rad * 180 / std::numbers::pi);
-  return text;
-}
-
-std::string Sigmas(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f", value);
-  return text;
-}
+double Degrees(double rad) { return rad * 180 / std::numbers::pi; }
 
 }  // namespace
 
@@ -39,10 +30,11 @@ void ApplyMountLevel(const RigidTransform& base_camera, const MountLevelOptions&
       levelled.tip_mahalanobis2 > options.max_tip_mahalanobis2) {
     // The image and the mount disagree (a wrong Y, a wrong mount, a ramp): the pose stays as
     // the image gave it, flagged; combining the two would make a pose neither supports.
-    const std::string reason = "the pose tips the robot " + Degrees(levelled.level_error_rad) +
-                               " deg from level (allowed " + Degrees(options.max_level_error_rad) +
-                               " deg; " + Sigmas(std::sqrt(levelled.tip_mahalanobis2)) +
-                               " sigma of the pose's own and the level's)";
+    const std::string reason =
+        "the pose tips the robot " + Fixed(Degrees(levelled.level_error_rad), 2) +
+        " deg from level (allowed " + Fixed(Degrees(options.max_level_error_rad), 2) + " deg; " +
+        Fixed(std::sqrt(levelled.tip_mahalanobis2), 1) +
+        " sigma of the pose's own and the level's)";
     location->suspect_reason += (location->suspect ? "; " : "") + reason;
     location->suspect = true;
     location->suspect_only_imprecise = false;
@@ -59,9 +51,9 @@ void ApplyMountLevel(const RigidTransform& base_camera, const MountLevelOptions&
     location->suspect = sigma_h > quality.max_relative_sigma * horizontal;
     location->suspect_only_imprecise = location->suspect;
     location->suspect_reason =
-        location->suspect ? "position uncertain: 1 sigma " + Percent(sigma_h / horizontal) +
+        location->suspect ? "position uncertain: 1 sigma " + Fixed(100 * sigma_h / horizontal, 1) +
                                 " % of the distance with the mount's level (more than " +
-                                Percent(quality.max_relative_sigma) + ")"
+                                Fixed(100 * quality.max_relative_sigma, 1) + ")"
                           : "";
   }
 }

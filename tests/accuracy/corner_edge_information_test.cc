@@ -39,15 +39,6 @@ CornerScene EdgesOnlyScene(double blur_sigma_px, const CornerPose& pose) {
   return scene;
 }
 
-CornerPose Moved(CornerPose pose, const PoseVector& change) {
-  pose.x_m += change[0];
-  pose.y_m += change[1];
-  pose.pan_rad += change[2];
-  pose.tilt_rad += change[3];
-  pose.swing_rad += change[4];
-  return pose;
-}
-
 struct Comparison {
   PoseMatrix model, renderer;                    // information about (x, y, pan, tilt, swing)
   PoseMatrix model_in_basis, renderer_in_basis;  // in the model's scaled eigenbasis
@@ -105,8 +96,8 @@ Comparison CompareWithRenderer(const CornerPose& pose, double blur_sigma_px) {
       largest_shift = std::max(largest_shift, std::abs(sample.normal_shift_px.dot(u)));
     basis.col(e) = 0.5 / largest_shift * u;
     cv::Mat plus, minus;
-    RenderCornerExposure(k, Moved(pose, basis.col(e)), scene).convertTo(plus, CV_64F);
-    RenderCornerExposure(k, Moved(pose, -basis.col(e)), scene).convertTo(minus, CV_64F);
+    RenderCornerExposure(k, MovedBy(pose, basis.col(e)), scene).convertTo(plus, CV_64F);
+    RenderCornerExposure(k, MovedBy(pose, -basis.col(e)), scene).convertTo(minus, CV_64F);
     difference[e] = (plus - minus) / 2;
   }
   PoseMatrix in_basis;

@@ -16,6 +16,7 @@
 
 #include "idl/cli_output.pb.h"
 #include "monocle/client.h"
+#include "tests/integration/live_poses.h"
 #include "tests/integration/service_process.h"
 
 namespace monocle {
@@ -173,16 +174,8 @@ TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
                  "\ncamera { id: \"ceiling\" device: \"127.0.0.1\" role: CORNER calibration: "
                  "\"sim.pbtxt\" " +
                  MountLookingUp(up_deg) + " level_sigma_deg: 0.1 }\n");
-    const auto r = RunMonocle(dir,
-                              "corner locate --camera ceiling --count 4 --json --timeout 30 "
-                              "--domain " +
-                                  std::to_string(kLevelDomain));
-    ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir / "monocled.log");
-    std::stringstream lines(r.out);
-    int poses = 0;
-    for (std::string line; std::getline(lines, line); ++poses) {
-      proto::LivePoseOutput out;
-      ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok()) << line;
+    const auto poses = testing::ReadLivePoses(dir, "ceiling", 4, kLevelDomain);
+    for (const proto::LivePoseOutput& out : poses) {
       ASSERT_FALSE(out.pose().has_error()) << out.pose().error();
       const auto& truth = xy[out.sequence() % xy.size()];
       EXPECT_LT(std::hypot(out.pose().x() - truth[0], out.pose().y() - truth[1]) /
@@ -196,7 +189,7 @@ TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
             << out.pose().suspect_reason();
       }
     }
-    EXPECT_EQ(poses, 4);
+    EXPECT_EQ(poses.size(), 4u);
     EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
   }
   EXPECT_EQ(simcam.Stop(), 0);

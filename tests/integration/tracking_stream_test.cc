@@ -17,6 +17,7 @@
 #include "camera/sim/sim_gv_camera.h"
 #include "idl/cli_output.pb.h"
 #include "service/vision/corner_locator.h"
+#include "tests/integration/live_poses.h"
 #include "tests/integration/service_process.h"
 
 namespace monocle {
@@ -134,16 +135,9 @@ TEST(TrackingStreamTest, AMountRolledFurtherThanUsualIsAcceptedWhenItsCalibratio
         dir, "domain: " + std::to_string(kDomain) +
                  "\ncamera { id: \"ceiling\" device: \"127.0.0.1\" role: CORNER calibration: \"" +
                  file + "\" }\n");
-    const auto r = RunMonocle(dir,
-                              "corner locate --camera ceiling --count 3 --json --timeout 30 "
-                              "--domain " +
-                                  std::to_string(kDomain));
-    ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir / "monocled.log");
-    std::stringstream lines(r.out);
-    int poses = 0;
-    for (std::string line; std::getline(lines, line); ++poses) {
-      proto::LivePoseOutput out;
-      ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(line, &out).ok()) << line;
+    const auto poses = testing::ReadLivePoses(dir, "ceiling", 3, kDomain);
+    for (const proto::LivePoseOutput& out : poses) {
+      const std::string line = out.ShortDebugString();
       ASSERT_FALSE(out.pose().has_error()) << out.pose().error();
       EXPECT_NEAR(out.pose().swing(), 0.9, 0.005) << line;
       EXPECT_NEAR(out.pose().x(), 2.0, 0.02) << line;
@@ -154,7 +148,7 @@ TEST(TrackingStreamTest, AMountRolledFurtherThanUsualIsAcceptedWhenItsCalibratio
         EXPECT_FALSE(out.pose().suspect()) << line;
       }
     }
-    EXPECT_EQ(poses, 3);
+    EXPECT_EQ(poses.size(), 3u);
     EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
   }
   EXPECT_EQ(simcam.Stop(), 0);
