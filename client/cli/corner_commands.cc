@@ -60,10 +60,11 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
   --mount MOUNT.pbtxt      the camera rides a robot standing level (a CameraMount, e.g.
                            idl/examples/camera_mount.pbtxt): the mount fixes the camera's tilt
                            and swing, which are combined with the image's. The weakly
-                           determined views gain most (README "The mount's level"). A pose
-                           that tips the robot more than 1 degree from level is SUSPECT. JSON
-                           adds level_error_deg (how far the pose as solved tipped the robot)
-                           and level_sigma_deg
+                           determined views gain most (README "On a robot: the mount's
+                           level"). A pose that tips the robot more than 1 degree from level,
+                           and more than its own 1 sigma allows, is SUSPECT and left as
+                           solved. JSON adds level_error_deg (how far the pose as solved
+                           tipped the robot) and level_sigma_deg
   --level-sigma DEG        how level the robot stands: 1 sigma about each horizontal axis
                            (the floor's slope, the suspension, the mount's own error), degrees
                            (default 0.3); with --map too

@@ -7,9 +7,10 @@
 // components are the base's tip about two horizontal axes, each zero with 1 sigma
 // `level_sigma_rad` (the floor's slope, the robot's suspension, the mount's own error). How
 // they depend on the camera's pan, tilt and swing is the rotation's own Jacobian: a base
-// rolled about its forward axis moves a steep camera's swing and pan together, which a
-// prior on (tilt, swing) alone would count as swing only (an overconfident swing, below
-// 45 degrees of tilt; measured in mount_level_test).
+// rolled about its forward axis moves a camera's swing and pan together, which a prior on
+// (tilt, swing) alone counts as swing only (the room map's update until 2026-11-26: its
+// covariance came out overconfident in swing, and for a steep camera in pan and y too, failing
+// mount_level_test at 15 and 50 degrees from the vertical).
 #pragma once
 
 #include <Eigen/Core>
