@@ -218,7 +218,19 @@ int Locate(const std::vector<std::string>& argv) {
                                   "--detect-every", "--map", "--mount", "--prior", "--level-sigma"},
                                  {"--json", "--follow", "--track"}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (args->Has("--camera")) return LocateLive(*args);
+  if (args->Has("--camera")) {
+    // The service applies its own configuration; these would be silently ignored here.
+    for (const char* offline : {"--mount", "--level-sigma", "--map", "--prior"}) {
+      if (args->Get(offline)) {
+        return Fail(std::string(offline) +
+                        " applies to IMAGE files; a live camera's poses come as monocled's "
+                        "configuration makes them (mount, level_sigma_deg, room_map, "
+                        "initial_pose)",
+                    kExitUsage);
+      }
+    }
+    return LocateLive(*args);
+  }
   if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
   const auto cal_path = args->Require("--calibration");
   if (!cal_path) return Fail(cal_path.error(), kExitUsage);

@@ -284,6 +284,10 @@ TEST_F(CornerCliTest, AMountsLevelIsCombinedWithThePoseAndAWrongMountIsSuspect) 
                            " --level-sigma 0");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--level-sigma must be"), std::string::npos) << r.err;
+  // A live camera's poses are levelled by monocled's configuration, not by this flag.
+  r = RunMonocle(dir_, "corner locate --camera ceiling --mount " + dir_ / "mount50.pbtxt");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--mount applies to IMAGE files"), std::string::npos) << r.err;
   {
     std::ofstream(dir_ / "broken.pbtxt") << "base_frame: \"base_link\"\ntranslation_m: [0.1, 0]\n";
   }
