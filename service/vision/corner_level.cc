@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "service/geometry/mount_level.h"
 
@@ -44,18 +45,27 @@ void ApplyMountLevel(const RigidTransform& base_camera, const MountLevelOptions&
   location->covariance = levelled.covariance;
   location->q_corner_camera =
       Eigen::Quaterniond(RotationCameraFromCorner(levelled.pose).transpose()).normalized();
-  if (location->suspect_only_imprecise) {
-    // Its only reason was the 1 sigma, which the level has changed: judge it again.
-    const double horizontal = std::hypot(location->pose.x_m, location->pose.y_m);
-    const double sigma_h = std::sqrt(location->covariance(0, 0) + location->covariance(1, 1));
-    location->suspect = sigma_h > quality.max_relative_sigma * horizontal;
-    location->suspect_only_imprecise = location->suspect;
-    location->suspect_reason =
-        location->suspect ? "position uncertain: 1 sigma " + Fixed(100 * sigma_h / horizontal, 1) +
-                                " % of the distance with the mount's level (more than " +
-                                Fixed(100 * quality.max_relative_sigma, 1) + ")"
-                          : "";
+  // The 1 sigma has changed: the imprecision among the pose's reasons (if any) is judged and
+  // stated again; the others (its edges) stand.
+  std::vector<std::string> reasons;
+  for (size_t begin = 0; begin < location->suspect_reason.size();) {
+    size_t end = location->suspect_reason.find("; ", begin);
+    if (end == std::string::npos) end = location->suspect_reason.size();
+    std::string reason = location->suspect_reason.substr(begin, end - begin);
+    if (!reason.empty() && !IsImprecisionReason(reason)) reasons.push_back(std::move(reason));
+    begin = end + 2;
   }
+  const bool others = !reasons.empty();
+  if (auto imprecise = ImprecisionReason(location->pose, location->covariance, quality,
+                                         "with the mount's level");
+      !imprecise.empty()) {
+    reasons.push_back(std::move(imprecise));
+  }
+  location->suspect = !reasons.empty();
+  location->suspect_only_imprecise = location->suspect && !others;
+  location->suspect_reason.clear();
+  for (const auto& r : reasons)
+    location->suspect_reason += (location->suspect_reason.empty() ? "" : "; ") + r;
 }
 
 }  // namespace monocle

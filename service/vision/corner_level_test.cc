@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 namespace monocle {
 namespace {
@@ -65,6 +67,38 @@ TEST(CornerLevelTest, ALevelThatLeavesAViewImpreciseSaysSoWithItsNewSigma) {
   EXPECT_TRUE(c.suspect);
   EXPECT_TRUE(c.suspect_only_imprecise);
   EXPECT_NE(c.suspect_reason.find("with the mount's level"), std::string::npos) << c.suspect_reason;
+}
+
+// A view flagged for an edge as well as for its 1 sigma: the level changes the 1 sigma, so
+// the imprecision is stated again with the new figure, or dropped; the edge's reason stands.
+TEST(CornerLevelTest, AnotherReasonStandsAndTheImprecisionIsRestated) {
+  const std::string edge_reason = "edge Y found on 23 % of its visible length";
+  for (const double level_deg : {0.1, 1.0}) {
+    CornerLocation c = WeakView();
+    c.suspect_only_imprecise = false;
+    c.suspect_reason = edge_reason + "; " + c.suspect_reason;
+    MountLevelOptions level;
+    level.level_sigma_rad = level_deg * kDeg;
+    ApplyMountLevel(MountOf(c.pose, 0), level, {}, &c);
+    EXPECT_TRUE(c.suspect);
+    EXPECT_FALSE(c.suspect_only_imprecise);
+    const double sigma_pct = 100 * std::sqrt(c.covariance(0, 0) + c.covariance(1, 1)) /
+                             std::hypot(c.pose.x_m, c.pose.y_m);
+    if (level_deg == 0.1) {
+      EXPECT_LT(sigma_pct, 1.5);
+      EXPECT_EQ(c.suspect_reason, edge_reason);
+    } else {
+      // The view's 1 degree of tilt combined with a level of 1 degree: over 1.5 %, under 2.5.
+      char restated[128];
+      std::snprintf(restated, sizeof restated,
+                    "; position uncertain: 1 sigma %.1f %% of the distance with the mount's level "
+                    "(more than 1.5)",
+                    sigma_pct);
+      EXPECT_GT(sigma_pct, 1.5);
+      EXPECT_LT(sigma_pct, 2.4);
+      EXPECT_EQ(c.suspect_reason, edge_reason + restated);
+    }
+  }
 }
 
 // 6 degrees off is 5.8 sigma of the view's own tilt (1 degree) and the level's (0.3).

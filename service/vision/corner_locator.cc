@@ -388,12 +388,8 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
   }
   out->rms_px = std::sqrt(sum2 / std::max(total, 1));
   const bool edges_agree = reasons.empty();
-  const double horizontal = std::hypot(out->pose.x_m, out->pose.y_m);
-  const double sigma_h = std::sqrt(out->covariance(0, 0) + out->covariance(1, 1));
-  if (sigma_h > quality.max_relative_sigma * horizontal) {
-    reasons.push_back(Format("position uncertain: 1 sigma %.1f %% of the distance (more than %.1f)",
-                             100 * sigma_h / horizontal, 100 * quality.max_relative_sigma));
-  }
+  if (auto imprecise = ImprecisionReason(out->pose, out->covariance, quality); !imprecise.empty())
+    reasons.push_back(std::move(imprecise));
   out->suspect = !reasons.empty();
   out->suspect_only_imprecise = out->suspect && edges_agree;
   out->suspect_reason.clear();
@@ -401,7 +397,24 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
     out->suspect_reason += (out->suspect_reason.empty() ? "" : "; ") + r;
 }
 
+constexpr char kImprecisionPrefix[] = "position uncertain: ";
+
 }  // namespace
+
+std::string ImprecisionReason(const CornerPose& pose, const Eigen::Matrix<double, 5, 5>& covariance,
+                              const CornerQualityOptions& quality, const std::string& qualifier) {
+  const double horizontal = std::hypot(pose.x_m, pose.y_m);
+  const double sigma_h = std::sqrt(covariance(0, 0) + covariance(1, 1));
+  if (!(sigma_h > quality.max_relative_sigma * horizontal)) return "";
+  return kImprecisionPrefix +
+         Format("1 sigma %.1f %% of the distance", 100 * sigma_h / horizontal) +
+         (qualifier.empty() ? "" : " " + qualifier) +
+         Format(" (more than %.1f)", 100 * quality.max_relative_sigma);
+}
+
+bool IsImprecisionReason(const std::string& reason) {
+  return reason.starts_with(kImprecisionPrefix);
+}
 
 const char* ToString(CornerSource source) {
   return source == CornerSource::kTracked ? "tracked" : "detected";

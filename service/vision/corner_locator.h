@@ -101,6 +101,17 @@ struct CornerQualityOptions {
   double max_swing_rad = 45 * std::numbers::pi / 180;
 };
 
+// The reason a pose is flagged for its imprecision, when its horizontal 1 sigma is over
+// quality.max_relative_sigma of its horizontal distance (empty otherwise). It is one of the
+// reasons in CornerLocation::suspect_reason, kept apart so that a step that changes the
+// 1 sigma afterwards (the mount's level) can state it again with the new figure.
+// `qualifier`: said after "of the distance", e.g. "with the mount's level".
+std::string ImprecisionReason(const CornerPose& pose, const Eigen::Matrix<double, 5, 5>& covariance,
+                              const CornerQualityOptions& quality,
+                              const std::string& qualifier = "");
+// True for a reason ImprecisionReason wrote.
+bool IsImprecisionReason(const std::string& reason);
+
 Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics& intrinsics,
                                     double ceiling_distance_m,
                                     const CornerDetectorOptions& options = {},
