@@ -154,8 +154,13 @@ int LocateLive(const Args& args) {
                 << "  x=" << pose.x_m << " y=" << pose.y_m << " z=" << pose.z_m
                 << " m  pan=" << pose.pan_rad << " tilt=" << pose.tilt_rad
                 << " swing=" << pose.swing_rad << " rad  rms " << std::setprecision(3)
-                << pose.rms_px << " px  " << (pose.tracked ? "tracked" : "detected")
-                << (pose.suspect ? "  SUSPECT: " + pose.suspect_reason : "") << std::endl;
+                << pose.rms_px << " px  " << (pose.tracked ? "tracked" : "detected");
+      if (pose.level_sigma_rad > 0) {
+        std::cout << std::setprecision(2) << "  level "
+                  << pose.level_error_rad * 180 / std::numbers::pi << " deg off as solved (1σ "
+                  << pose.level_sigma_rad * 180 / std::numbers::pi << " deg)";
+      }
+      std::cout << (pose.suspect ? "  SUSPECT: " + pose.suspect_reason : "") << std::endl;
       if (pose.map_status == MapStatus::kLocated) {
         std::cout << std::setprecision(4) << "  map: " << pose.map_corner << " (room "
                   << pose.map_room << ")  base x=" << pose.map_x_m << " y=" << pose.map_y_m

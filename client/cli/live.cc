@@ -67,6 +67,10 @@ proto::LivePoseOutput ToLiveOutput(const Pose& s) {
   sigma->set_pan(std::sqrt(s.covariance[12]));
   sigma->set_tilt(std::sqrt(s.covariance[18]));
   sigma->set_swing(std::sqrt(s.covariance[24]));
+  if (s.level_sigma_rad > 0) {  // monocled combined the pose with the mount's level
+    p->set_level_error_deg(s.level_error_rad * 180 / std::numbers::pi);
+    p->set_level_sigma_deg(s.level_sigma_rad * 180 / std::numbers::pi);
+  }
   if (s.map_status != MapStatus::kNone) {
     // The same "map" object as `corner locate --map` (the service sends no candidate list,
     // only how many fit).

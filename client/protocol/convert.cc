@@ -80,6 +80,8 @@ void ToSample(const Pose& p, monocle_msgs_msg_dds__CornerPose_* out) {
   out->map_camera.orientation = {r[1], r[2], r[3], r[0]};  // ROS order: x, y, z, w
   out->map_candidates = p.map_candidates;
   out->map_reason = Chars(p.map_reason);
+  out->level_error = p.level_error_rad;
+  out->level_sigma = p.level_sigma_rad;
 }
 
 Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
@@ -122,6 +124,8 @@ Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
                                   s.map_camera.orientation.y, s.map_camera.orientation.z};
   p.map_candidates = s.map_candidates;
   p.map_reason = Text(s.map_reason);
+  p.level_error_rad = s.level_error;
+  p.level_sigma_rad = s.level_sigma;
   return p;
 }
 

@@ -44,6 +44,8 @@ TEST(ConvertTest, PoseRoundTrip) {
   p.map_camera_quaternion_wxyz = {0.7, 0.1, 0.5, -0.3};
   p.map_candidates = 1;
   p.map_reason = "";
+  p.level_error_rad = 0.004;
+  p.level_sigma_rad = 0.0017;
   monocle_msgs_msg_dds__CornerPose_ s;
   ToSample(p, &s);
   // ROS's quaternion order is x, y, z, w.
@@ -86,6 +88,8 @@ TEST(ConvertTest, PoseRoundTrip) {
   EXPECT_EQ(back.map_camera_position_m, p.map_camera_position_m);
   EXPECT_EQ(back.map_camera_quaternion_wxyz, p.map_camera_quaternion_wxyz);
   EXPECT_EQ(back.map_candidates, p.map_candidates);
+  EXPECT_EQ(back.level_error_rad, p.level_error_rad);
+  EXPECT_EQ(back.level_sigma_rad, p.level_sigma_rad);
   s.map_status = static_cast<monocle_msgs_msg_dds__MapStatus>(17);
   EXPECT_EQ(FromSample(s).map_status, MapStatus::kNone) << "a status from a newer service";
 

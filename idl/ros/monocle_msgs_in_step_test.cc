@@ -219,7 +219,7 @@ TEST(MonocleMsgsInStep, PackageDescribesTheIdl) {
   // The checker saw what it checks: 4 messages and 3 services with their fields.
   const IdlTypes types = ParseIdl(ReadFile(kRosDir / "monocle_msgs.idl"));
   EXPECT_EQ(types.structs.size(), 10u);
-  EXPECT_EQ(types.structs.at("msg/CornerPose_").size(), 28u);
+  EXPECT_EQ(types.structs.at("msg/CornerPose_").size(), 30u);
   EXPECT_EQ(types.enums.at("MapStatus").size(), 5u);
   EXPECT_EQ(types.structs.at("srv/MeasurePoints_Response_").size(), 12u);
   EXPECT_EQ(types.enums.at("CameraState").size(), 4u);

@@ -72,6 +72,10 @@ Pose PoseOf(const CameraSetup& camera, const ProcessedFrame& frame) {
   p.tracked = c.source == CornerSource::kTracked;
   p.suspect = c.suspect;
   p.suspect_reason = c.suspect_reason;
+  if (c.level_error_rad) {
+    p.level_error_rad = *c.level_error_rad;
+    p.level_sigma_rad = c.level_sigma_rad;
+  }
   if (frame.map) SetMapFields(*frame.map, &p);
   return p;
 }

@@ -107,6 +107,7 @@ TEST_F(PoseStreamTest, StreamedPosesAgreeWithTheSimulatedCamerasGroundTruth) {
         Error(out.sequence(), out.pose().x(), out.pose().y(), out.pose().tilt());
     EXPECT_LT(horizontal, 0.01) << "frame " << out.sequence();
     EXPECT_LT(tilt, 0.1 * M_PI / 180) << "frame " << out.sequence();
+    EXPECT_FALSE(out.pose().has_level_sigma_deg()) << "no level configured, none applied";
     errors.push_back(horizontal);
   }
   ASSERT_EQ(errors.size(), 10u);
@@ -149,7 +150,8 @@ std::string MountLookingUp(double up_deg) {
 // A camera on a robot standing level (a mount and level_sigma_deg): the service combines each
 // pose with the tilt and swing the mount gives. On a mount the camera does not sit on (3
 // degrees off) every pose is suspect, saying how far it tips the robot; on the right one
-// none is, and the poses keep to the truth.
+// none is, and the poses keep to the truth. Each sample says how far the pose as solved tipped
+// the robot and the level's 1 sigma.
 TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
   constexpr int kLevelDomain = 25;
   TempDir dir("monocle_level_stream");
@@ -183,6 +185,11 @@ TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
                 wrong ? 0.05 : 0.01)
           << "frame " << out.sequence() << " on a mount " << up_deg << " deg up";
       EXPECT_EQ(out.pose().suspect(), wrong) << out.pose().suspect_reason();
+      // The sample says how far the pose as solved tipped the robot, and the level's 1 sigma:
+      // about the mount's error.
+      EXPECT_NEAR(out.pose().level_sigma_deg(), 0.1, 1e-9);
+      EXPECT_NEAR(out.pose().level_error_deg(), wrong ? 3.0 : 0.0, 0.3)
+          << "frame " << out.sequence() << " on a mount " << up_deg << " deg up";
       if (wrong) {
         EXPECT_NE(out.pose().suspect_reason().find("deg from level (allowed 1.00 deg;"),
                   std::string::npos)

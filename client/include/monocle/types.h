@@ -71,6 +71,10 @@ struct Pose {
   std::array<double, 4> map_camera_quaternion_wxyz{};    // optical frame -> map
   uint32_t map_candidates = 0;                           // corners that fit (> 1: ambiguous)
   std::string map_reason;                                // why not located, in words
+  // With the camera's mount and level_sigma_deg and no room map, the pose is combined with the
+  // robot's level (README "On a robot: the mount's level"): how far the pose as solved tipped
+  // the robot base from level, and the level's 1 sigma. Both 0 when no level was applied.
+  double level_error_rad = 0, level_sigma_rad = 0;
 };
 
 enum class PoseWhich { kLatest, kNextFrame };
