@@ -19,6 +19,8 @@ constexpr int kExitUsage = 2;
 
 int FloorCommand(const std::vector<std::string>& args);
 int CornerCommand(const std::vector<std::string>& args);
+// corner fit-mount (mount_fit_command.cc).
+int FitMountCommand(const std::vector<std::string>& args);
 // cameras, snapshot, simcam
 int CameraCommand(const std::string& command, const std::vector<std::string>& args);
 int IntrinsicsCommand(const std::vector<std::string>& args);

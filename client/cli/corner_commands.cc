@@ -354,11 +354,13 @@ int Locate(const std::vector<std::string>& argv) {
 
 int CornerCommand(const std::vector<std::string>& args) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::cout << "Usage: monocle corner locate ...  (monocle corner locate --help)\n";
+    std::cout << "Usage: monocle corner locate ...    (monocle corner locate --help)\n"
+                 "       monocle corner fit-mount ... (monocle corner fit-mount --help)\n";
     return args.empty() ? kExitUsage : kExitOk;
   }
   if (args[0] == "locate") return Locate({args.begin() + 1, args.end()});
-  return Fail("unknown corner command '" + args[0] + "' (locate)", kExitUsage);
+  if (args[0] == "fit-mount") return FitMountCommand({args.begin() + 1, args.end()});
+  return Fail("unknown corner command '" + args[0] + "' (locate, fit-mount)", kExitUsage);
 }
 
 }  // namespace monocle::cli

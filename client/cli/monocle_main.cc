@@ -30,6 +30,8 @@ Commands:
   corner locate IMAGE... --calibration CAL.pbtxt --map MAP.pbtxt --mount MOUNT.pbtxt
                 [--prior X,Y,HEADING_DEG] [--track] [--json]
       The robot's pose in a room map from whichever corner is in view, and which corner.
+  corner fit-mount IMAGE... --calibration CAL.pbtxt --mount MOUNT.pbtxt [--out NEW.pbtxt]
+      The tilt and roll of the camera's mount from images taken with the robot on the floor.
   map check MAP.pbtxt [--mount MOUNT.pbtxt]
       Validates a room map and lists its rooms and ceiling corners.
   map draw MAP.pbtxt --out MAP.png [--trajectory FILE] [--poses POSES.jsonl]

@@ -10,8 +10,17 @@ namespace {
 
 using Vector5d = Eigen::Matrix<double, 5, 1>;
 
-// d(tip)/d(x, y, pan, tilt, swing) by central differences (the tip does not depend on x, y).
-Eigen::Matrix<double, 2, 5> TipJacobian(const CornerPose& pose, const RigidTransform& mount) {
+}  // namespace
+
+Eigen::Vector2d BaseTipInCornerFrame(const CornerPose& pose, const RigidTransform& base_camera) {
+  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(pose).transpose();
+  const Eigen::Matrix3d base_from_camera = base_camera.rotation.toRotationMatrix();
+  const Eigen::Vector3d up_in_corner = corner_from_camera * base_from_camera.transpose().col(2);
+  return up_in_corner.head<2>();
+}
+
+// By central differences.
+Eigen::Matrix<double, 2, 5> BaseTipJacobian(const CornerPose& pose, const RigidTransform& mount) {
   constexpr double kStepRad = 1e-6;
   Eigen::Matrix<double, 2, 5> jacobian = Eigen::Matrix<double, 2, 5>::Zero();
   for (int i = 2; i < 5; ++i) {
@@ -21,15 +30,6 @@ Eigen::Matrix<double, 2, 5> TipJacobian(const CornerPose& pose, const RigidTrans
                       (2 * kStepRad);
   }
   return jacobian;
-}
-
-}  // namespace
-
-Eigen::Vector2d BaseTipInCornerFrame(const CornerPose& pose, const RigidTransform& base_camera) {
-  const Eigen::Matrix3d corner_from_camera = RotationCameraFromCorner(pose).transpose();
-  const Eigen::Matrix3d base_from_camera = base_camera.rotation.toRotationMatrix();
-  const Eigen::Vector3d up_in_corner = corner_from_camera * base_from_camera.transpose().col(2);
-  return up_in_corner.head<2>();
 }
 
 LevelledCornerPose LevelWithMount(const CornerPose& pose,
@@ -51,14 +51,14 @@ LevelledCornerPose LevelWithMount(const CornerPose& pose,
   Eigen::Matrix<double, 5, 2> gain = Eigen::Matrix<double, 5, 2>::Zero();
   Eigen::Matrix<double, 2, 5> jacobian = Eigen::Matrix<double, 2, 5>::Zero();
   {
-    const Eigen::Matrix<double, 2, 5> at_pose = TipJacobian(pose, base_camera);
+    const Eigen::Matrix<double, 2, 5> at_pose = BaseTipJacobian(pose, base_camera);
     const Eigen::Vector2d tip = BaseTipInCornerFrame(pose, base_camera);
     out.tip_mahalanobis2 =
         tip.dot((at_pose * covariance * at_pose.transpose() + level_covariance).ldlt().solve(tip));
   }
   for (int round = 0; round < 3; ++round) {
     const CornerPose at = MovedBy(pose, step);
-    jacobian = TipJacobian(at, base_camera);
+    jacobian = BaseTipJacobian(at, base_camera);
     const Eigen::Matrix2d innovation =
         jacobian * covariance * jacobian.transpose() + level_covariance;
     gain = covariance * jacobian.transpose() * innovation.inverse();

@@ -34,6 +34,9 @@ struct LevelledCornerPose {
 // The base's up axis in the corner frame for a camera at `pose` on `base_camera`'s mount:
 // its horizontal components (x, y), each the sine of the base's tip towards that axis.
 Eigen::Vector2d BaseTipInCornerFrame(const CornerPose& pose, const RigidTransform& base_camera);
+// Its derivative by (x, y, pan, tilt, swing) (zero by x and y).
+Eigen::Matrix<double, 2, 5> BaseTipJacobian(const CornerPose& pose,
+                                            const RigidTransform& base_camera);
 
 // `covariance`: of (x, y, pan, tilt, swing) as solved (m^2, rad^2). `base_camera`: the mount
 // (only its rotation is used). An iterated linear Gaussian update: the maximum a posteriori

@@ -2,6 +2,7 @@
 // its covariance says, and its covariance must then still say how far the truth is (checked
 // by sampling the pose's errors and the floor's tip).
 #include "service/geometry/mount_level.h"
+#include "service/geometry/robot_test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -17,35 +18,9 @@ using Vector5d = Eigen::Matrix<double, 5, 1>;
 using Matrix5d = Eigen::Matrix<double, 5, 5>;
 constexpr double kDeg = M_PI / 180;
 
-// A camera looking ahead and up, `up_deg` from the vertical, rolled `roll_deg` about its
-// axis, on a base whose z is up. Written without the corner solver's code.
-RigidTransform MountLookingUp(double up_deg, double roll_deg) {
-  const double t = up_deg * kDeg;
-  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t));  // optical axis in the base frame
-  const Eigen::Vector3d x(0, -1, 0);                     // image right = the robot's right
-  Eigen::Matrix3d r;
-  r << x, z.cross(x), z;
-  r = r * Eigen::AngleAxisd(roll_deg * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return {Eigen::Quaterniond(r), Eigen::Vector3d(0.1, 0, 0.4)};
-}
-
-// The base in the corner frame (Z down the wall edge): heading `heading_rad` from X, tipped
-// by `tip_x_rad`, `tip_y_rad` about the corner frame's X and Y axes.
-Eigen::Matrix3d CornerFromBase(double heading_rad, double tip_x_rad = 0, double tip_y_rad = 0) {
-  Eigen::Matrix3d level;
-  level.col(0) = Eigen::Vector3d(std::cos(heading_rad), std::sin(heading_rad), 0);
-  level.col(2) = -Eigen::Vector3d::UnitZ();
-  level.col(1) = level.col(2).cross(level.col(0));
-  return (Eigen::AngleAxisd(tip_x_rad, Eigen::Vector3d::UnitX()) *
-          Eigen::AngleAxisd(tip_y_rad, Eigen::Vector3d::UnitY()))
-             .toRotationMatrix() *
-         level;
-}
-
-CornerPose TruePose(const Eigen::Matrix3d& corner_from_base, const RigidTransform& mount) {
-  const Eigen::Matrix3d corner_from_camera = corner_from_base * mount.rotation.toRotationMatrix();
-  return PoseFromRotation(corner_from_camera.transpose(), Eigen::Vector3d(1.8, 2.6, 2.0));
-}
+using testing::CornerFromBase;
+using testing::MountLookingUp;
+using testing::TruePose;
 
 Vector5d Difference(const CornerPose& a, const CornerPose& b) {
   auto wrap = [](double r) { return std::remainder(r, 2 * M_PI); };

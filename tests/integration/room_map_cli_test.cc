@@ -3,8 +3,11 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -159,6 +162,91 @@ TEST_F(RoomMapCliTest, BadFilesAndArgumentsAreRefusedWithWhatToDo) {
   r = RunMonocle(dir_, "render room" + kMapArgs + " --pose 7.5,1,0 --out " + dir_ / "x.png");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("stands in no room of the map"), std::string::npos) << r.err;
+}
+
+// The CameraMount text of a camera looking ahead and up, `up_deg` from the vertical, rolled
+// `roll_deg` about its optical axis (written from the geometry here, not monocle's code), and
+// its rotation.
+Eigen::Quaterniond LookingUp(double up_deg, double roll_deg) {
+  const double t = up_deg * M_PI / 180;
+  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t)), x(0, -1, 0);
+  Eigen::Matrix3d r;
+  r << x, z.cross(x), z;
+  return Eigen::Quaterniond(r * Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitZ()));
+}
+std::string MountText(const Eigen::Quaterniond& q) {
+  std::ostringstream text;
+  text << std::setprecision(12) << "base_frame: \"base_link\"\ntranslation_m: [0.1, 0, 0.4]\n"
+       << "rotation_xyzw: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n";
+  return text.str();
+}
+
+// A user fits the mount's level: the robot stands at places around the example hall facing
+// its corners (the mount of idl/examples, 50 degrees up), the images rendered as its camera
+// sees them; the mount configured is 1 degree too steep and rolled 0.5 degrees. The fit finds
+// that error (a roll about the optical axis is 0.5 sin 50 degrees about the base's x axis;
+// its part about the vertical, the heading, is not the level's), writes a mount whose up axis
+// is the true one's, and finds the rendered floor level.
+TEST_F(RoomMapCliTest, TheMountsLevelIsFittedFromImagesAroundTheHall) {
+  {
+    std::ofstream tour(dir_ / "tour.txt");
+    const std::vector<std::array<double, 2>> spots = {{1.5, 1.5}, {2.5, 1.0}, {4.5, 1.5},
+                                                      {5.5, 1.2}, {1.2, 3.8}, {2.0, 2.5}};
+    const std::vector<std::array<double, 2>> corners = {{0, 0}, {7, 0}, {7, 3}, {0, 5}};
+    for (const auto& [x, y] : spots) {
+      for (const auto& [cx, cy] : corners) {
+        const double d = std::hypot(cx - x, cy - y);
+        if (d < 1.5 || d > 5.5 || (cx == 0 && cy == 5 && x > 3)) continue;
+        tour << x << " " << y << " " << std::atan2(cy - y, cx - x) * 180 / M_PI << "\n";
+      }
+    }
+  }
+  auto r = RunMonocle(dir_, "render room" + kMapArgs + " --trajectory " + dir_ / "tour.txt" +
+                                " --realistic --seed 4100 --out " + dir_ / "frames");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string images;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_ / "frames"))
+    images += " " + entry.path().string();
+  const Eigen::Quaterniond truth = LookingUp(50, 0);
+  { std::ofstream(dir_ / "wrong.pbtxt") << MountText(LookingUp(51, 0.5)); }
+  const std::string fit = "corner fit-mount" + images + " --calibration " + kExamples +
+                          "wide_camera.pbtxt --ceiling-distance 2.2 --mount ";
+  r = RunMonocle(dir_, fit + dir_ / "wrong.pbtxt --out " + dir_ / "fitted.pbtxt --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  proto::MountFitOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_GE(out.used(), 12u) << r.out;
+  EXPECT_NEAR(out.correction_x_deg(), -0.5 * std::sin(50 * M_PI / 180), 0.05) << r.out;
+  EXPECT_NEAR(out.correction_y_deg(), -1.0, 0.05) << r.out;
+  EXPECT_LT(out.sigma_x_deg(), 0.02);
+  EXPECT_LT(out.floor_sigma_deg(), 0.05) << "the rendered floor is level";
+  EXPECT_EQ(out.written(), dir_ / "fitted.pbtxt");
+  // The written mount is a mount monocle reads, its up axis the true one's.
+  r = RunMonocle(dir_,
+                 "map check " + kExamples + "room_map.pbtxt --mount " + dir_ / "fitted.pbtxt");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(out.rotation_xyzw_size(), 4);
+  const Eigen::Quaterniond fitted(out.rotation_xyzw(3), out.rotation_xyzw(0), out.rotation_xyzw(1),
+                                  out.rotation_xyzw(2));
+  const Eigen::Vector3d up_fitted = fitted.inverse() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up_true = truth.inverse() * Eigen::Vector3d::UnitZ();
+  EXPECT_LT(std::acos(std::min(1.0, up_fitted.dot(up_true))) * 180 / M_PI, 0.05);
+  // Told the true mount, it finds nothing to correct.
+  { std::ofstream(dir_ / "true.pbtxt") << MountText(truth); }
+  r = RunMonocle(dir_, fit + dir_ / "true.pbtxt --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_LT(std::hypot(out.correction_x_deg(), out.correction_y_deg()), 0.05) << r.out;
+  // Too few images: what each gave.
+  r = RunMonocle(dir_, "corner fit-mount " + dir_ / "frames/frame_0000.png " +
+                           dir_ / "nothing.png" + " --calibration " + kExamples +
+                           "wide_camera.pbtxt --ceiling-distance 2.2 --mount " +
+                           dir_ / "true.pbtxt");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("needs at least 5 corner poses (got 1): 2 images gave 1 usable poses"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("nothing.png: cannot read"), std::string::npos) << r.err;
 }
 
 }  // namespace

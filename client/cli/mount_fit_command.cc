@@ -1,0 +1,191 @@
+// monocle corner fit-mount: the mount's level fitted from images of the ceiling corner taken
+// while the robot stood on the floor (service/geometry/mount_fit.h).
+#include <google/protobuf/text_format.h>
+
+#include <unistd.h>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <numbers>
+#include <sstream>
+
+#include "client/cli/args.h"
+#include "client/cli/commands.h"
+#include "idl/cli_output.pb.h"
+#include "idl/service_config.pb.h"
+#include "service/geometry/mount_fit.h"
+#include "service/io/bounded_file.h"
+#include "service/io/calibration_file.h"
+#include "service/io/room_map_file.h"
+#include "service/io/text_proto.h"
+#include "service/vision/corner_locator.h"
+
+namespace monocle::cli {
+namespace {
+
+constexpr double kDegPerRad = 180 / std::numbers::pi;
+
+constexpr char kHelp[] =
+    R"(Usage: monocle corner fit-mount IMAGE... --calibration CAL.pbtxt --mount MOUNT.pbtxt
+                          [--ceiling-distance Z] [--out NEW_MOUNT.pbtxt] [--json]
+
+Fits the tilt and roll of the camera's mount on the robot base from ceiling-corner images
+taken while the robot stood on the floor, at several places and headings. The mount's level
+(corner locate --mount, monocled's level_sigma_deg) helps a pose only as far as the mount's
+rotation is right, and most at a tenth of a degree; a mount read off a drawing is rarely
+better than half a degree. Each image's pose says where the base's up axis points under the
+given mount; a mount error turns with the robot's heading and the floor's slope does not,
+so poses facing several ways, at corners on different walls, separate the two (README
+"Fitting the mount's level").
+
+  --calibration CAL.pbtxt  the camera's intrinsics (and corner { ceiling_distance })
+  --mount MOUNT.pbtxt      the mount as it is configured (a CameraMount); its rotation is
+                           corrected, its translation and base_frame are kept
+  --ceiling-distance Z     camera to ceiling, metres (default: the calibration file's)
+  --out NEW_MOUNT.pbtxt    write the fitted mount there (atomically)
+  --json                   one JSON object (MountFitOutput in idl/cli_output.proto)
+
+Prints the correction (degrees about the base's x axis, ahead, and y axis, left), its 1σ,
+and how level the floor was (1σ per axis beyond the poses' own: the least level_sigma_deg to
+configure). Images without a corner, poses suspect
+for their edges, and poses that tip the base more than 3.7σ from the fit are left out and
+named. Needs at least 5 poses; 20 or more from all round the room are better.
+)";
+
+std::string Fixed(double value, int decimals) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(decimals) << value;
+  return s.str();
+}
+
+// The mount file's text with its rotation replaced (its other fields as they were).
+Result<std::string> FittedMountText(const std::string& path, const RigidTransform& fitted,
+                                    size_t poses) {
+  auto text = ReadBoundedFile(path, "camera mount", kMaxTextFileBytes);
+  if (!text) return text.error();
+  proto::CameraMount msg;
+  if (auto parsed = ParseTextProto(*text, path, &msg); !parsed) return parsed.error();
+  msg.clear_rotation_xyzw();
+  const Eigen::Quaterniond& q = fitted.rotation;
+  for (double v : {q.x(), q.y(), q.z(), q.w()}) msg.add_rotation_xyzw(v);
+  google::protobuf::TextFormat::Printer printer;
+  printer.SetUseShortRepeatedPrimitives(true);
+  std::string body;
+  printer.PrintToString(msg, &body);
+  return "# Fitted by monocle corner fit-mount from " + std::to_string(poses) + " poses (was " +
+         path + ").\n" + body;
+}
+
+}  // namespace
+
+int FitMountCommand(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kHelp;
+    return kExitOk;
+  }
+  auto args =
+      Args::Parse(argv, {{"--calibration", "--mount", "--ceiling-distance", "--out"}, {"--json"}});
+  if (!args) return Fail(args.error(), kExitUsage);
+  if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
+  const auto cal_path = args->Require("--calibration");
+  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
+  const auto mount_path = args->Require("--mount");
+  if (!mount_path) return Fail(mount_path.error(), kExitUsage);
+  const auto calibration = LoadCalibrationFile(*cal_path);
+  if (!calibration) return Fail(calibration.error(), kExitFailure);
+  const auto mount = LoadCameraMountFile(*mount_path, RoomMap{});
+  if (!mount) return Fail(mount.error(), kExitFailure);
+  double zc = calibration->ceiling_distance_m.value_or(0);
+  if (args->Get("--ceiling-distance")) {
+    const auto z = args->GetDouble("--ceiling-distance", 0);
+    if (!z || !(*z > 0))
+      return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
+    zc = *z;
+  }
+  if (!(zc > 0)) {
+    return Fail(
+        "the camera-to-ceiling distance is unknown: give --ceiling-distance Z (metres) "
+        "or add corner { ceiling_distance: Z } to " +
+            *cal_path,
+        kExitUsage);
+  }
+  CornerQualityOptions quality;
+  quality.max_swing_rad = calibration->corner_max_swing_rad.value_or(quality.max_swing_rad);
+
+  proto::MountFitOutput out;
+  std::vector<MountFitPose> poses;
+  std::vector<int> image_of_pose;  // index into out.images
+  const bool tty = ::isatty(STDERR_FILENO) == 1;
+  const auto& images = args->positionals();
+  for (size_t i = 0; i < images.size(); ++i) {
+    if (tty) std::cerr << "\rlocating " << i + 1 << "/" << images.size() << std::flush;
+    auto* entry = out.add_images();
+    entry->set_image(images[i]);
+    const auto grey = ReadGreyImage(images[i]);
+    if (!grey) {
+      entry->set_left_out(grey.error().message);
+      continue;
+    }
+    const auto located = LocateCorner(*grey, calibration->intrinsics, zc, {}, quality);
+    if (!located) {
+      entry->set_left_out(located.error().message);
+    } else if (located->suspect && !located->suspect_only_imprecise) {
+      entry->set_left_out("suspect: " + located->suspect_reason);
+    } else {
+      poses.push_back({located->pose, located->covariance});
+      image_of_pose.push_back(out.images_size() - 1);
+    }
+  }
+  if (tty) std::cerr << "\r" << std::string(30, ' ') << "\r";
+  out.set_poses(static_cast<uint32_t>(poses.size()));
+  const auto fit = FitMountLevel(poses, *mount);
+  if (!fit) {
+    std::string why = fit.error().message + ": " + std::to_string(images.size()) + " images gave " +
+                      std::to_string(poses.size()) + " usable poses";
+    for (const auto& e : out.images())
+      if (!e.left_out().empty()) why += "\n  " + e.image() + ": " + e.left_out();
+    return Fail(why, kExitFailure);
+  }
+  for (size_t k = 0; k < fit->left_out.size(); ++k) {
+    out.mutable_images(image_of_pose[fit->left_out[k]])
+        ->set_left_out("tips the base " + Fixed(fit->left_out_sigmas[k], 1) +
+                       " sigma from the fit (a wrong Y, or the robot not standing level)");
+  }
+  out.set_used(static_cast<uint32_t>(fit->used.size()));
+  out.set_correction_x_deg(fit->correction_rad.x() * kDegPerRad);
+  out.set_correction_y_deg(fit->correction_rad.y() * kDegPerRad);
+  out.set_sigma_x_deg(std::sqrt(fit->covariance(0, 0)) * kDegPerRad);
+  out.set_sigma_y_deg(std::sqrt(fit->covariance(1, 1)) * kDegPerRad);
+  out.set_floor_sigma_deg(fit->floor_sigma_rad * kDegPerRad);
+  const Eigen::Quaterniond& q = fit->mount.rotation;
+  for (double v : {q.x(), q.y(), q.z(), q.w()}) out.add_rotation_xyzw(v);
+  if (const auto path = args->Get("--out")) {
+    const auto text = FittedMountText(*mount_path, fit->mount, fit->used.size());
+    if (!text) return Fail(text.error(), kExitFailure);
+    if (auto written = WriteFileAtomically(*path, *text); !written)
+      return Fail(written.error(), kExitFailure);
+    out.set_written(*path);
+  }
+
+  if (args->Has("--json")) {
+    std::cout << ToJson(out) << std::endl;
+  } else {
+    std::cout << "mount fitted from " << out.used() << " of " << images.size() << " images\n";
+    for (const auto& e : out.images())
+      if (!e.left_out().empty())
+        std::cout << "  left out " << e.image() << ": " << e.left_out() << "\n";
+    std::cout << "  correction: " << Fixed(out.correction_x_deg(), 3)
+              << " deg about the base's x axis"
+              << " (1σ " << Fixed(out.sigma_x_deg(), 3) << "), " << Fixed(out.correction_y_deg(), 3)
+              << " deg about its y axis (1σ " << Fixed(out.sigma_y_deg(), 3) << ")\n"
+              << "  the robot stood level to " << Fixed(out.floor_sigma_deg(), 3)
+              << " deg (1σ per axis beyond the poses' own): level_sigma_deg "
+              << Fixed(std::max(out.floor_sigma_deg(), 0.05), 2) << " or more\n"
+              << "  rotation_xyzw: [" << Fixed(q.x(), 9) << ", " << Fixed(q.y(), 9) << ", "
+              << Fixed(q.z(), 9) << ", " << Fixed(q.w(), 9) << "]\n";
+    if (!out.written().empty()) std::cout << "wrote " << out.written() << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace monocle::cli
