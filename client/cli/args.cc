@@ -112,6 +112,22 @@ Result<double> Args::RequireDouble(const std::string& name) const {
   return GetDouble(name, 0);
 }
 
+Result<double> CeilingDistanceM(const Args& args, std::optional<double> from_calibration,
+                                const std::string& calibration_path, const std::string& also) {
+  if (args.Get("--ceiling-distance")) {
+    const auto z = args.GetDouble("--ceiling-distance", 0);
+    if (!z || !(*z > 0))
+      return MakeError(ErrorCode::kInvalidArgument,
+                       "--ceiling-distance must be a positive distance in metres");
+    return *z;
+  }
+  if (from_calibration && *from_calibration > 0) return *from_calibration;
+  return MakeError(ErrorCode::kInvalidArgument,
+                   "the camera-to-ceiling distance is unknown: give --ceiling-distance Z (metres) "
+                   "or add corner { ceiling_distance: Z } to " +
+                       calibration_path + also);
+}
+
 Result<BoardSpec> RequireBoard(const Args& args) {
   const auto board_text = args.Require("--board");
   if (!board_text) return board_text.error();

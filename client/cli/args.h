@@ -42,6 +42,12 @@ class Args {
 // --board COLSxROWS and --square METRES, both required, as a board spec.
 Result<BoardSpec> RequireBoard(const Args& args);
 
+// The camera-to-ceiling distance, metres: --ceiling-distance Z, else `from_calibration` (the
+// calibration file's corner { ceiling_distance }). The error says both ways to give it, and
+// `also` after them.
+Result<double> CeilingDistanceM(const Args& args, std::optional<double> from_calibration,
+                                const std::string& calibration_path, const std::string& also = "");
+
 // Parses a finite double; empty on trailing garbage.
 std::optional<double> ParseDouble(const std::string& text);
 // Splits "a,b,c" into numbers; empty if any part is not a finite number.

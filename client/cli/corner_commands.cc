@@ -264,21 +264,15 @@ int Locate(const std::vector<std::string>& argv) {
   level.level_sigma_rad = *level_sigma_rad;
   // In a map each corner's ceiling distance follows from the mount: solve at any one of
   // them (the map scales the pose to each corner's).
-  double zc =
-      in_map ? in_map->map().rooms.front().ceiling_height_m - in_map->base_camera().translation.z()
-             : calibration->ceiling_distance_m.value_or(0);
-  if (args->Get("--ceiling-distance") && !in_map) {
-    const auto z = args->GetDouble("--ceiling-distance", 0);
-    if (!z || !(*z > 0))
-      return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
+  double zc = 0;
+  if (in_map) {
+    zc = in_map->map().rooms.front().ceiling_height_m - in_map->base_camera().translation.z();
+  } else {
+    const auto z =
+        CeilingDistanceM(*args, calibration->ceiling_distance_m, *cal_path,
+                         " (or locate in a room map: --map MAP.pbtxt --mount MOUNT.pbtxt)");
+    if (!z) return Fail(z.error(), kExitUsage);
     zc = *z;
-  }
-  if (!(zc > 0)) {
-    return Fail(
-        "the camera-to-ceiling distance is unknown: give --ceiling-distance Z (metres) or add "
-        "corner { ceiling_distance: Z } to " +
-            *cal_path + " (or locate in a room map: --map MAP.pbtxt --mount MOUNT.pbtxt)",
-        kExitUsage);
   }
   std::optional<BasePose2d> prior;
   if (const auto text = args->Get("--prior")) {

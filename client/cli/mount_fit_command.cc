@@ -47,9 +47,10 @@ so poses facing several ways, at corners on different walls, separate the two (R
 
 Prints the correction (degrees about the base's x axis, ahead, and y axis, left), its 1σ,
 and how level the floor was (1σ per axis beyond the poses' own: the least level_sigma_deg to
-configure). Images without a corner, poses suspect
-for their edges, and poses that tip the base more than 3.7σ from the fit are left out and
-named. Needs at least 5 poses; 20 or more from all round the room are better.
+configure). Images without a corner, poses suspect for their edges, and poses that tip the
+base more than 3.7σ from the fit are left out and named. The mount's yaw (the camera's
+heading on the robot) is not the level's and is kept as given. Needs at least 5 poses; 20 or
+more, at corners on different walls, are better.
 )";
 
 std::string Fixed(double value, int decimals) {
@@ -95,20 +96,8 @@ int FitMountCommand(const std::vector<std::string>& argv) {
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   const auto mount = LoadCameraMountFile(*mount_path, RoomMap{});
   if (!mount) return Fail(mount.error(), kExitFailure);
-  double zc = calibration->ceiling_distance_m.value_or(0);
-  if (args->Get("--ceiling-distance")) {
-    const auto z = args->GetDouble("--ceiling-distance", 0);
-    if (!z || !(*z > 0))
-      return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
-    zc = *z;
-  }
-  if (!(zc > 0)) {
-    return Fail(
-        "the camera-to-ceiling distance is unknown: give --ceiling-distance Z (metres) "
-        "or add corner { ceiling_distance: Z } to " +
-            *cal_path,
-        kExitUsage);
-  }
+  const auto zc = CeilingDistanceM(*args, calibration->ceiling_distance_m, *cal_path);
+  if (!zc) return Fail(zc.error(), kExitUsage);
   CornerQualityOptions quality;
   quality.max_swing_rad = calibration->corner_max_swing_rad.value_or(quality.max_swing_rad);
 
@@ -126,7 +115,7 @@ int FitMountCommand(const std::vector<std::string>& argv) {
       entry->set_left_out(grey.error().message);
       continue;
     }
-    const auto located = LocateCorner(*grey, calibration->intrinsics, zc, {}, quality);
+    const auto located = LocateCorner(*grey, calibration->intrinsics, *zc, {}, quality);
     if (!located) {
       entry->set_left_out(located.error().message);
     } else if (located->suspect && !located->suspect_only_imprecise) {
