@@ -319,9 +319,9 @@ namespace {
 TEST(CommandLineHelpTest, EachCommandPrintsItsOwnHelp) {
   TempDir dir("monocle_help");
   for (const std::string command :
-       {"floor calibrate", "floor measure", "floor map", "corner locate", "intrinsics calibrate",
-        "render floor", "render corner", "render boards", "status", "record", "info", "replay",
-        "view", "security init", "cameras", "snapshot", "simcam"}) {
+       {"floor calibrate", "floor measure", "floor map", "corner locate", "corner fit-mount",
+        "intrinsics calibrate", "render floor", "render corner", "render boards", "status",
+        "record", "info", "replay", "view", "security init", "cameras", "snapshot", "simcam"}) {
     const auto r = testing::RunMonocle(dir, command + " --help");
     EXPECT_EQ(r.exit_code, 0) << command;
     EXPECT_EQ(r.out.rfind("Usage: monocle " + command, 0), 0u) << command << ":\n" << r.out;
