@@ -16,6 +16,7 @@
 #include "service/geometry/mount_fit.h"
 #include "service/geometry/robot_test_scenes.h"
 #include "service/vision/corner_level.h"
+#include "service/vision/corner_rays.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle {
@@ -207,6 +208,35 @@ void BM_Tracking(benchmark::State& state) {
   state.SetLabel("predict the three edges from the last pose, measure, refine");
 }
 BENCHMARK(BM_Tracking)->Unit(benchmark::kMillisecond);
+
+// The check that no edge stronger than the Y's weakest leaves the corner (corner_rays.h),
+// part of every pose above, detected or tracked: its share of a frame's time.
+void BM_OtherRayCheck(benchmark::State& state) {
+  const auto k = testing::PaperCamera();
+  struct Y {
+    Eigen::Vector2d corner_px;
+    std::array<Eigen::Vector2d, 3> direction_px;
+  };
+  std::vector<Y> ys;
+  for (const auto& frame : Frames()) {
+    const Eigen::Vector3d c = CornerToCamera(frame.truth, Eigen::Vector3d::Zero());
+    Y y{NormalizedToPixel(k, c.head<2>() / c.z()), {}};
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d a = CornerToCamera(frame.truth, 0.05 * Eigen::Vector3d::Unit(axis));
+      y.direction_px[axis] = (NormalizedToPixel(k, a.head<2>() / a.z()) - y.corner_px).normalized();
+    }
+    ys.push_back(y);
+  }
+  size_t i = 0;
+  for (auto _ : state) {
+    const auto& frame = Frames()[i % ys.size()];
+    benchmark::DoNotOptimize(StrongestOtherRay(frame.image, ys[i % ys.size()].corner_px,
+                                               ys[i % ys.size()].direction_px));
+    ++i;
+  }
+  state.SetLabel("10 rings of 24-96 px around the corner, 360 directions");
+}
+BENCHMARK(BM_OtherRayCheck)->Unit(benchmark::kMicrosecond);
 
 void BM_ClosedFormOnly(benchmark::State& state) {
   const auto& frames = Frames();

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "service/geometry/undistortion_grid.h"
+#include "service/vision/corner_rays.h"
 
 namespace monocle {
 namespace {
@@ -291,16 +292,42 @@ double StepNearCornerGrey(const LineFit& fit, const Eigen::Vector2d& corner_n, d
   return v[v.size() / 2];
 }
 
+// Why the pose is suspect for an edge leaving the corner that is not one of the Y's, stronger
+// than the Y's weakest (empty if none is): see corner_rays.h.
+std::string OtherRayReason(const cv::Mat& grey, const Eigen::Vector2d& corner_px,
+                           const std::array<Eigen::Vector2d, 3>& direction_px, double noise_grey,
+                           const CornerQualityOptions& quality) {
+  const OtherRay other = StrongestOtherRay(grey, corner_px, direction_px);
+  if (!(other.step_grey > quality.min_other_ray_noise_sigmas * noise_grey)) return "";
+  // The weakest edge the rings could read (an edge shorter than the smallest ring is not).
+  int weakest = -1;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (other.edge_step_grey[axis] > 0 &&
+        (weakest < 0 || other.edge_step_grey[axis] < other.edge_step_grey[weakest]))
+      weakest = axis;
+  }
+  if (weakest < 0 || other.step_grey <= quality.max_other_ray_ratio * other.edge_step_grey[weakest])
+    return "";
+  const Eigen::Vector2d towards_px =
+      corner_px + 100 * Eigen::Vector2d(std::cos(other.angle_rad), std::sin(other.angle_rad));
+  return Format("an edge of %.0f grey levels leaves the corner", other.step_grey) +
+         Format(" towards (%.0f, %.0f) px, stronger than", towards_px.x(), towards_px.y()) +
+         std::string(" edge ") + "XYZ"[weakest] +
+         Format("'s %.1f: one of the corner's edges taken for another?",
+                other.edge_step_grey[weakest]);
+}
+
 // Per-edge support against the refined pose, and whether to call the pose suspect.
-void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits,
-                   const std::array<int, 3>& axis_of_line, const Eigen::Vector2d& corner_n,
-                   const CornerQualityOptions& quality, const std::array<double, 3>& spacing_px,
-                   CornerLocation* out) {
+void AssessSupport(const cv::Mat& grey, const CameraIntrinsics& k,
+                   const std::array<LineFit, 3>& fits, const std::array<int, 3>& axis_of_line,
+                   const Eigen::Vector2d& corner_n, const CornerQualityOptions& quality,
+                   const std::array<double, 3>& spacing_px, CornerLocation* out) {
   const double focal = 0.5 * (k.fx + k.fy);
   const Eigen::Vector3d c_cam = CornerToCamera(out->pose, Eigen::Vector3d::Zero());
   const Eigen::Vector2d c2 = c_cam.head<2>() / c_cam.z();
   const char* kAxis = "XYZ";
   std::vector<std::string> reasons;
+  std::array<Eigen::Vector2d, 3> direction_px;  // X, Y, Z leaving the corner, image pixels
   double sum2 = 0;
   int total = 0;
   for (int m = 0; m < 3; ++m) {
@@ -311,6 +338,7 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
         out->pose, 1e-3 * CameraPosition(out->pose).norm() * Eigen::Vector3d::Unit(axis));
     const Eigen::Vector2d dir = (a.head<2>() / a.z() - c2).normalized();
     const Eigen::Vector2d normal(-dir.y(), dir.x());
+    direction_px[axis] = (NormalizedToPixel(k, c2 + 1e-3 * dir) - out->corner_px).normalized();
     // Unweighted for the reported RMS; weighted as the fit was for the misfit below.
     double edge_sum2 = 0, weighted_sum2 = 0, weights = 0;
     for (size_t i = 0; i < fit.inliers.size(); ++i) {
@@ -379,6 +407,10 @@ void AssessSupport(const CameraIntrinsics& k, const std::array<LineFit, 3>& fits
                       Format("%.1f + %.1f across the others (at a corner one equals the other two)",
                              steps_near_corner[1], steps_near_corner[0]));
   }
+  if (auto other =
+          OtherRayReason(grey, out->corner_px, direction_px, out->noise_sigma_grey, quality);
+      !other.empty())
+    reasons.push_back(std::move(other));
   if (std::abs(out->pose.swing_rad) > quality.max_swing_rad) {
     reasons.push_back(
         Format("the camera would be rolled %.0f degrees about its axis (more than "
@@ -516,7 +548,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     return MakeError(ErrorCode::kDegenerate, "the refined pose puts the corner behind the camera");
   }
   out.corner_px = NormalizedToPixel(k, c_cam.head<2>() / c_cam.z());
-  AssessSupport(k, fits, axis_of_line, *corner, quality, spacing_px, &out);
+  AssessSupport(grey, k, fits, axis_of_line, *corner, quality, spacing_px, &out);
   // The tracker relies on edges listed as X, Y, Z: reorder what the detector found.
   CornerEdges ordered = edges;
   for (int m = 0; m < 3; ++m) {

@@ -1,0 +1,169 @@
+#include "service/vision/corner_rays.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+namespace monocle {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kAngleBins = 360;  // a degree each
+constexpr int kMaxRings = 64;
+
+// One ring around the corner: the step across every ~1 px of it, counter-clockwise in image
+// angle (the mean just counter-clockwise of a place minus the mean just clockwise), and
+// whether both windows lay in the image.
+struct Ring {
+  double radius_px = 0;
+  int samples = 0;
+  std::vector<float> step;
+  std::vector<uint8_t> step_valid;
+
+  // The step at image angle `angle`; false where a window left the image.
+  bool StepAt(double angle, double* out) const {
+    int i = static_cast<int>(std::lround(angle / (2 * kPi) * samples)) % samples;
+    if (i < 0) i += samples;
+    if (!step_valid[i]) return false;
+    *out = step[i];
+    return true;
+  }
+};
+
+Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radius_px,
+                 const RayProfileOptions& o) {
+  Ring ring;
+  ring.radius_px = radius_px;
+  const int n = static_cast<int>(std::ceil(2 * kPi * radius_px));
+  ring.samples = n;
+  // Grey levels along the ring, by bilinear interpolation; the direction turns by a fixed
+  // rotation from sample to sample (no sine or cosine per sample).
+  std::vector<float> value(n);
+  std::vector<uint8_t> ok(n, 0);
+  const double turn_c = std::cos(2 * kPi / n), turn_s = std::sin(2 * kPi / n);
+  double c = 1, s = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = centre.x() + radius_px * c, y = centre.y() + radius_px * s;
+    const double next_c = c * turn_c - s * turn_s;
+    s = s * turn_c + c * turn_s;
+    c = next_c;
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    if (x0 < 0 || y0 < 0 || x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) continue;
+    const double fx = x - x0, fy = y - y0;
+    const uint8_t* r0 = grey.ptr<uint8_t>(y0) + x0;
+    const uint8_t* r1 = grey.ptr<uint8_t>(y0 + 1) + x0;
+    value[i] = static_cast<float>((1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) +
+                                  fy * ((1 - fx) * r1[0] + fx * r1[1]));
+    ok[i] = 1;
+  }
+  // Prefix sums over two turns, so that windows wrap round.
+  std::vector<double> sum(2 * n + 1, 0);
+  std::vector<int> valid(2 * n + 1, 0);
+  for (int i = 0; i < 2 * n; ++i) {
+    sum[i + 1] = sum[i] + value[i % n];
+    valid[i + 1] = valid[i] + ok[i % n];
+  }
+  const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
+  const int gap = static_cast<int>(std::ceil(o.step_gap_px / per_sample));
+  const int width = std::max(1, static_cast<int>(std::lround(o.step_width_px / per_sample)));
+  ring.step.assign(n, 0);
+  ring.step_valid.assign(n, 0);
+  for (int i = 0; i < n; ++i) {
+    // Counter-clockwise window [i + gap, i + gap + width), clockwise [i - gap - width + 1,
+    // i - gap], both shifted one turn on so that indices stay in [0, 2n).
+    const int ccw = i + n + gap, cw = i + n - gap - width + 1;
+    if (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width)
+      continue;
+    ring.step[i] =
+        static_cast<float>((sum[ccw + width] - sum[ccw] - sum[cw + width] + sum[cw]) / width);
+    ring.step_valid[i] = 1;
+  }
+  return ring;
+}
+
+double AngleBetween(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
+
+// The step a ray at `angle` shows on all but a fraction `quantile` of the rings from
+// `first_ring` on (0.5: the median; less: seen more consistently), signed; 0 when the rings
+// disagree on its sign. False when too few rings are read.
+bool RayStep(const std::vector<Ring>& rings, size_t first_ring, double angle,
+             const RayProfileOptions& o, double quantile, double* step) {
+  std::array<double, kMaxRings> steps;
+  size_t count = 0;
+  for (size_t r = first_ring; r < rings.size(); ++r) {
+    double s;
+    if (rings[r].StepAt(angle, &s)) steps[count++] = s;
+  }
+  if (count < std::max<size_t>(3, std::ceil(o.min_ring_fraction * rings.size()))) return false;
+  std::sort(steps.begin(), steps.begin() + count);
+  const double last = static_cast<double>(count - 1);
+  const double low = steps[static_cast<size_t>(std::floor(quantile * last))];
+  const double high = steps[static_cast<size_t>(std::ceil((1 - quantile) * last))];
+  *step = low > 0 ? low : high < 0 ? high : 0;
+  return true;
+}
+
+}  // namespace
+
+OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px,
+                           const std::array<Eigen::Vector2d, 3>& edge_direction_px,
+                           const RayProfileOptions& o) {
+  std::vector<Ring> rings;
+  for (double r = o.min_radius_px; r <= o.max_radius_px + 1e-9 && rings.size() < kMaxRings;
+       r += o.radius_step_px)
+    rings.push_back(MeasureRing(grey, corner_px, r, o));
+  std::array<double, 3> edge_angle;
+  for (int k = 0; k < 3; ++k)
+    edge_angle[k] = std::atan2(edge_direction_px[k].y(), edge_direction_px[k].x());
+
+  OtherRay out;
+  // Each edge's own step: the strongest within a degree of where the pose puts it.
+  for (int k = 0; k < 3; ++k) {
+    for (double d = -1; d <= 1; d += 0.25) {
+      double s;
+      if (RayStep(rings, 0, edge_angle[k] + d * kPi / 180, o, 0.5, &s))
+        out.edge_step_grey[k] = std::max(out.edge_step_grey[k], std::abs(s));
+    }
+  }
+  const double exclude_rad = o.exclude_deg * kPi / 180;
+  // Where a step's windows reach one of the Y's edges (plus 2 px of its blur), that ring
+  // does not count: at angle distance d from the nearest edge, rings from reach / d on.
+  const double reach_px = o.step_gap_px + o.step_width_px + 2;
+  const size_t min_rings = std::max<size_t>(3, std::ceil(o.min_ring_fraction * rings.size()));
+  std::array<double, kMaxRings> steps;
+  for (int bin = 0; bin < kAngleBins; ++bin) {
+    const double angle = -kPi + 2 * kPi * bin / kAngleBins;
+    double nearest = kPi;
+    for (double e : edge_angle) nearest = std::min(nearest, AngleBetween(angle, e));
+    if (nearest < exclude_rad) continue;
+    size_t count = 0;
+    for (const Ring& ring : rings) {
+      double s;
+      if (ring.radius_px * nearest >= reach_px && ring.StepAt(angle, &s)) steps[count++] = s;
+    }
+    if (count < min_rings) continue;
+    // RayStep's quantiles beat the strongest so far only if few enough rings show less:
+    // counted first, so that most directions are passed over without sorting.
+    const size_t low_at = static_cast<size_t>(std::floor(o.other_ray_quantile * (count - 1)));
+    const size_t high_at = static_cast<size_t>(std::ceil((1 - o.other_ray_quantile) * (count - 1)));
+    size_t not_above = 0, not_below = 0;
+    for (size_t i = 0; i < count; ++i) {
+      not_above += steps[i] <= out.step_grey;
+      not_below += steps[i] >= -out.step_grey;
+    }
+    if (not_above > low_at && not_below > count - 1 - high_at) continue;
+    std::sort(steps.begin(), steps.begin() + count);
+    const double low = steps[low_at], high = steps[high_at];
+    const double s = low > 0 ? low : high < 0 ? high : 0;
+    if (std::abs(s) > out.step_grey) {
+      out.step_grey = std::abs(s);
+      out.angle_rad = angle;
+    }
+  }
+  return out;
+}
+
+}  // namespace monocle
