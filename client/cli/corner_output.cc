@@ -11,6 +11,7 @@
 #include "client/cli/overlay_text.h"
 #include "service/io/image_codec.h"
 #include "service/vision/corner_detector.h"
+#include "service/vision/corner_rays.h"
 #include "service/vision/corner_tracker.h"
 
 namespace monocle::cli {
@@ -66,6 +67,18 @@ cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsic
       for (const auto& p : PredictEdgePx(intrinsics, result->pose, a, 4)) curve.push_back(Pt(p));
       cv::polylines(color, curve, false, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
     }
+    // The strongest other edge leaving the corner, as far as the rings read it: where it is
+    // what flagged the pose, a person sees the edge that was lost.
+    if (result->other_edge_flagged) {
+      const Eigen::Vector2d end =
+          OtherEdgeTowardsPx(result->corner_px, result->other_edge_angle_rad, 96);
+      cv::line(color, Pt(result->corner_px), Pt(end), cv::Scalar(255, 0, 255), 3, cv::LINE_AA);
+      std::ostringstream label;
+      label << std::fixed << std::setprecision(0) << "another edge, "
+            << result->other_edge_step_grey << " grey";
+      PutOutlinedText(color, label.str(), Pt(end + Eigen::Vector2d(6, 0)), 0.55,
+                      cv::Scalar(255, 120, 255), 1);
+    }
     cv::circle(color, Pt(result->corner_px), 8, cv::Scalar(0, 255, 255), 2, cv::LINE_AA);
     std::ostringstream os;
     os << std::fixed << std::setprecision(3) << "x " << result->pose.x_m << " y "
@@ -95,8 +108,9 @@ cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsic
                      cv::Scalar(0, 0, 255), 2);
     }
     PutOutlinedText(color,
-                    "thick: edges measured (as far as found)   thin white: edges the pose "
-                    "predicts   orange: straight segments seen",
+                    std::string("thick: edges measured (as far as found)   thin white: edges the "
+                                "pose predicts   orange: straight segments seen") +
+                        (result->other_edge_flagged ? "   magenta: another edge" : ""),
                     cv::Point(12, color.rows - 14), 0.5, cv::Scalar(255, 255, 255), 1);
   }
   return color;
@@ -161,6 +175,12 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
   if (r->suspect) out.set_suspect_reason(r->suspect_reason);
   out.set_noise_grey(r->noise_sigma_grey);
   if (r->edges.detection_scale > 0) out.set_detection_scale(r->edges.detection_scale);
+  if (r->other_edge_step_grey > 0) {
+    out.set_other_edge_step_grey(r->other_edge_step_grey);
+    const Eigen::Vector2d towards = OtherEdgeTowardsPx(r->corner_px, r->other_edge_angle_rad);
+    out.add_other_edge_towards_px(towards.x());
+    out.add_other_edge_towards_px(towards.y());
+  }
   if (r->level_error_rad) {
     out.set_level_error_deg(*r->level_error_rad * 180 / std::numbers::pi);
     out.set_level_sigma_deg(r->level_sigma_rad * 180 / std::numbers::pi);

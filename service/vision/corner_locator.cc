@@ -294,10 +294,8 @@ double StepNearCornerGrey(const LineFit& fit, const Eigen::Vector2d& corner_n, d
 
 // Why the pose is suspect for an edge leaving the corner that is not one of the Y's, stronger
 // than the Y's weakest (empty if none is): see corner_rays.h.
-std::string OtherRayReason(const cv::Mat& grey, const Eigen::Vector2d& corner_px,
-                           const std::array<Eigen::Vector2d, 3>& direction_px, double noise_grey,
-                           const CornerQualityOptions& quality) {
-  const OtherRay other = StrongestOtherRay(grey, corner_px, direction_px);
+std::string OtherRayReason(const OtherRay& other, const Eigen::Vector2d& corner_px,
+                           double noise_grey, const CornerQualityOptions& quality) {
   if (!(other.step_grey > quality.min_other_ray_noise_sigmas * noise_grey)) return "";
   // The weakest edge the rings could read (an edge shorter than the smallest ring is not).
   int weakest = -1;
@@ -308,8 +306,7 @@ std::string OtherRayReason(const cv::Mat& grey, const Eigen::Vector2d& corner_px
   }
   if (weakest < 0 || other.step_grey <= quality.max_other_ray_ratio * other.edge_step_grey[weakest])
     return "";
-  const Eigen::Vector2d towards_px =
-      corner_px + 100 * Eigen::Vector2d(std::cos(other.angle_rad), std::sin(other.angle_rad));
+  const Eigen::Vector2d towards_px = OtherEdgeTowardsPx(corner_px, other.angle_rad);
   return Format("an edge of %.0f grey levels leaves the corner", other.step_grey) +
          Format(" towards (%.0f, %.0f) px, stronger than", towards_px.x(), towards_px.y()) +
          std::string(" edge ") + "XYZ"[weakest] +
@@ -407,10 +404,14 @@ void AssessSupport(const cv::Mat& grey, const CameraIntrinsics& k,
                       Format("%.1f + %.1f across the others (at a corner one equals the other two)",
                              steps_near_corner[1], steps_near_corner[0]));
   }
-  if (auto other =
-          OtherRayReason(grey, out->corner_px, direction_px, out->noise_sigma_grey, quality);
-      !other.empty())
-    reasons.push_back(std::move(other));
+  const OtherRay other = StrongestOtherRay(grey, out->corner_px, direction_px);
+  out->other_edge_angle_rad = other.angle_rad;
+  out->other_edge_step_grey = other.step_grey;
+  if (auto why = OtherRayReason(other, out->corner_px, out->noise_sigma_grey, quality);
+      !why.empty()) {
+    out->other_edge_flagged = true;
+    reasons.push_back(std::move(why));
+  }
   if (std::abs(out->pose.swing_rad) > quality.max_swing_rad) {
     reasons.push_back(
         Format("the camera would be rolled %.0f degrees about its axis (more than "

@@ -50,6 +50,11 @@ struct CornerLocation {
   std::array<EdgeSupport, 3> support;          // X, Y, Z
   // The image's noise as an edge measurement sees it (CornerEdges::measurement_noise_grey).
   double noise_sigma_grey = 0;
+  // The strongest edge leaving the corner that is not one of the Y's (corner_rays.h): its
+  // image angle (atan2 of its pixel direction) and step (grey levels; 0: none was read).
+  double other_edge_angle_rad = 0;
+  double other_edge_step_grey = 0;
+  bool other_edge_flagged = false;  // it made the pose suspect (CornerQualityOptions)
   // Suspect: the edges do not support the pose consistently, or support it too weakly to
   // trust (see `suspect_reason`). Still a pose; never silently dropped or silently trusted.
   bool suspect = false;

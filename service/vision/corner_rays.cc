@@ -108,6 +108,11 @@ bool RayStep(const std::vector<Ring>& rings, size_t first_ring, double angle,
 
 }  // namespace
 
+Eigen::Vector2d OtherEdgeTowardsPx(const Eigen::Vector2d& corner_px, double angle_rad,
+                                   double distance_px) {
+  return corner_px + distance_px * Eigen::Vector2d(std::cos(angle_rad), std::sin(angle_rad));
+}
+
 OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px,
                            const std::array<Eigen::Vector2d, 3>& edge_direction_px,
                            const RayProfileOptions& o) {

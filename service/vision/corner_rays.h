@@ -44,6 +44,11 @@ struct OtherRay {
   std::array<double, 3> edge_step_grey{};  // the Y's own edges, measured the same way
 };
 
+// A pixel `distance_px` along the ray at image angle `angle_rad` from `corner_px`: where to
+// say it runs.
+Eigen::Vector2d OtherEdgeTowardsPx(const Eigen::Vector2d& corner_px, double angle_rad,
+                                   double distance_px = 100);
+
 // The strongest ray leaving `corner_px` other than the three of `edge_direction_px` (unit,
 // pixels, leaving the corner), and the three edges' steps measured the same way.
 OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px,

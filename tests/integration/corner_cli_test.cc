@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "idl/cli_output.pb.h"
@@ -295,6 +298,73 @@ TEST_F(CornerCliTest, AMountsLevelIsCombinedWithThePoseAndAWrongMountIsSuspect) 
                            dir_ / "cal.pbtxt" + " --mount " + dir_ / "broken.pbtxt");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("translation_m"), std::string::npos) << r.err;
+}
+
+// A ceiling corner has three edges. With a dark wedge painted into a realistic ceiling from
+// the corner (a fourth and a fifth edge, 50 grey levels deep), the pose is suspect, the JSON
+// names the strongest other edge, and the overlay draws it. (A wedge 20 grey levels deep is
+// not flagged: the weakest of this view's edges reads 19 on the rings, and the flag is at
+// 1.5 times; 30 is, at 29 against 18.8.)
+TEST_F(CornerCliTest, AnotherEdgeLeavingTheCornerIsNamedAndDrawn) {
+  const std::string image = dir_ / "wedge.png";
+  auto r =
+      RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                           " --pose 2,1.5,1.6,2.2143,0.9,0.1 --realistic --seed 3 --out " + image);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_,
+                 "corner locate " + image + " --calibration " + dir_ / "cal.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  proto::CornerOutput clean;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &clean).ok()) << r.out;
+  ASSERT_FALSE(clean.suspect()) << clean.suspect_reason();
+  EXPECT_GT(clean.other_edge_step_grey(), 0) << "read on every pose";
+  const cv::Point2d corner(clean.corner_px(0), clean.corner_px(1));
+  // The ceiling lies between the X and Y edges; the wedge is 12 degrees wide about their
+  // bisector.
+  auto direction = [&](int line) {
+    const auto& l = clean.lines(line);
+    const cv::Point2d d(l.to_px(0) - l.from_px(0), l.to_px(1) - l.from_px(1));
+    return d / std::hypot(d.x, d.y);
+  };
+  const cv::Point2d bisector = direction(0) + direction(1);
+  const double middle = std::atan2(bisector.y, bisector.x);
+  std::vector<double> wedge_rad = {middle - 6 * std::numbers::pi / 180,
+                                   middle + 6 * std::numbers::pi / 180};
+  cv::Mat grey = cv::imread(image, cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(grey.empty());
+  std::vector<cv::Point> wedge{cv::Point(corner)};
+  for (double a : wedge_rad)
+    wedge.push_back(cv::Point(corner + 400 * cv::Point2d(std::cos(a), std::sin(a))));
+  // 50 grey levels darker than the ceiling around it; the realistic look's edges are 8-40.
+  cv::Mat mask = cv::Mat::zeros(grey.size(), CV_8U);
+  cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{wedge}, cv::Scalar(255));
+  cv::subtract(grey, cv::Scalar(50), grey, mask);
+  ASSERT_TRUE(cv::imwrite(image, grey));
+
+  r = RunMonocle(dir_, "corner locate " + image + " --calibration " + dir_ / "cal.pbtxt" +
+                           " --json --overlay " + dir_ / "overlays");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  proto::CornerOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_TRUE(out.suspect());
+  EXPECT_NE(out.suspect_reason().find("leaves the corner"), std::string::npos)
+      << out.suspect_reason();
+  EXPECT_GT(out.other_edge_step_grey(), 40) << r.out;
+  ASSERT_EQ(out.other_edge_towards_px_size(), 2);
+  const double towards = std::atan2(out.other_edge_towards_px(1) - out.corner_px(1),
+                                    out.other_edge_towards_px(0) - out.corner_px(0));
+  const double off_rad =
+      std::min(std::abs(std::remainder(towards - wedge_rad[0], 2 * std::numbers::pi)),
+               std::abs(std::remainder(towards - wedge_rad[1], 2 * std::numbers::pi)));
+  EXPECT_LT(off_rad, 2 * std::numbers::pi / 180) << "along one of the wedge's sides";
+  // The overlay draws it (magenta: blue and red full, green none) near the corner.
+  const cv::Mat overlay = cv::imread(dir_ / "overlays/wedge.overlay.png");
+  ASSERT_FALSE(overlay.empty());
+  const cv::Point2d along = corner + 60 * cv::Point2d(std::cos(towards), std::sin(towards));
+  const cv::Vec3b pixel = overlay.at<cv::Vec3b>(cv::Point(along));
+  EXPECT_GT(pixel[0], 200);
+  EXPECT_LT(pixel[1], 60);
+  EXPECT_GT(pixel[2], 200);
 }
 
 TEST_F(CornerCliTest, AViewWithoutACornerSaysWhatWasSeen) {
