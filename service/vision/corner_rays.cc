@@ -116,6 +116,13 @@ Eigen::Vector2d OtherEdgeTowardsPx(const Eigen::Vector2d& corner_px, double angl
 OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px,
                            const std::array<Eigen::Vector2d, 3>& edge_direction_px,
                            const RayProfileOptions& o) {
+  OtherRay out;
+  // No ring of a corner this far outside the image (or not a number) reads a pixel, and
+  // casting its coordinates to int would overflow.
+  const double margin_px = o.max_radius_px + 2;
+  if (!corner_px.allFinite() || corner_px.x() < -margin_px || corner_px.y() < -margin_px ||
+      corner_px.x() > grey.cols + margin_px || corner_px.y() > grey.rows + margin_px)
+    return out;
   std::vector<Ring> rings;
   for (double r = o.min_radius_px; r <= o.max_radius_px + 1e-9 && rings.size() < kMaxRings;
        r += o.radius_step_px)
@@ -124,7 +131,6 @@ OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px
   for (int k = 0; k < 3; ++k)
     edge_angle[k] = std::atan2(edge_direction_px[k].y(), edge_direction_px[k].x());
 
-  OtherRay out;
   // Each edge's own step: the strongest within a degree of where the pose puts it.
   for (int k = 0; k < 3; ++k) {
     for (double d = -1; d <= 1; d += 0.25) {

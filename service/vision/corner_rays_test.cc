@@ -94,5 +94,15 @@ TEST(CornerRaysTest, RingsOutsideTheImageAreNotRead) {
   EXPECT_NEAR(ray.angle_rad, 0, 0.02);
 }
 
+TEST(CornerRaysTest, ACornerFarOutsideTheImageReadsNothing) {
+  const cv::Mat image = Sectors({-150, -30, 90}, {200, 170, 150});
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-500, 240), Eigen::Vector2d(300, 1e30),
+                                        Eigen::Vector2d(std::nan(""), 240)}) {
+    const OtherRay ray = StrongestOtherRay(image, corner, kY);
+    EXPECT_EQ(ray.step_grey, 0);
+    EXPECT_EQ(ray.edge_step_grey[0] + ray.edge_step_grey[1] + ray.edge_step_grey[2], 0);
+  }
+}
+
 }  // namespace
 }  // namespace monocle
