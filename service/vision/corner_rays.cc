@@ -86,22 +86,20 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
 
 double AngleBetween(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
 
-// The step a ray at `angle` shows on all but a fraction `quantile` of the rings from
-// `first_ring` on (0.5: the median; less: seen more consistently), signed; 0 when the rings
-// disagree on its sign. False when too few rings are read.
-bool RayStep(const std::vector<Ring>& rings, size_t first_ring, double angle,
-             const RayProfileOptions& o, double quantile, double* step) {
+// The median step of a ray at `angle` over the rings that read it, or false when fewer than
+// RayProfileOptions::min_ring_fraction of them do.
+bool MedianRayStep(const std::vector<Ring>& rings, double angle, const RayProfileOptions& o,
+                   double* step) {
   std::array<double, kMaxRings> steps;
   size_t count = 0;
-  for (size_t r = first_ring; r < rings.size(); ++r) {
+  for (const Ring& ring : rings) {
     double s;
-    if (rings[r].StepAt(angle, &s)) steps[count++] = s;
+    if (ring.StepAt(angle, &s)) steps[count++] = s;
   }
   if (count < std::max<size_t>(3, std::ceil(o.min_ring_fraction * rings.size()))) return false;
+  // Of an even count's two middle steps, the one nearer 0 (0 if they differ in sign).
   std::sort(steps.begin(), steps.begin() + count);
-  const double last = static_cast<double>(count - 1);
-  const double low = steps[static_cast<size_t>(std::floor(quantile * last))];
-  const double high = steps[static_cast<size_t>(std::ceil((1 - quantile) * last))];
+  const double low = steps[(count - 1) / 2], high = steps[count / 2];
   *step = low > 0 ? low : high < 0 ? high : 0;
   return true;
 }
@@ -135,7 +133,7 @@ OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px
   for (int k = 0; k < 3; ++k) {
     for (double d = -1; d <= 1; d += 0.25) {
       double s;
-      if (RayStep(rings, 0, edge_angle[k] + d * kPi / 180, o, 0.5, &s))
+      if (MedianRayStep(rings, edge_angle[k] + d * kPi / 180, o, &s))
         out.edge_step_grey[k] = std::max(out.edge_step_grey[k], std::abs(s));
     }
   }
@@ -156,7 +154,8 @@ OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px
       if (ring.radius_px * nearest >= reach_px && ring.StepAt(angle, &s)) steps[count++] = s;
     }
     if (count < min_rings) continue;
-    // RayStep's quantiles beat the strongest so far only if few enough rings show less:
+    // The step all but other_ray_quantile of the rings show, with one sign (0 if they
+    // disagree on it). It can beat the strongest so far only if few enough rings show less:
     // counted first, so that most directions are passed over without sorting.
     const size_t low_at = static_cast<size_t>(std::floor(o.other_ray_quantile * (count - 1)));
     const size_t high_at = static_cast<size_t>(std::ceil((1 - o.other_ray_quantile) * (count - 1)));
