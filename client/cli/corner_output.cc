@@ -54,11 +54,17 @@ cv::Mat DrawCornerOverlay(const cv::Mat& grey, const CameraIntrinsics& intrinsic
             << std::setprecision(0) << s.coverage * 100 << "%, " << std::setprecision(1)
             << s.contrast_to_noise << "x noise, misfit " << std::setprecision(2) << s.misfit_px
             << " px";
+      // Below it, how much of the position's uncertainty this edge gives.
+      std::ostringstream share;
+      share << std::fixed << std::setprecision(0) << s.position_variance_share * 100
+            << "% of the position's variance";
       // At 60 % along the measured edge, pulled inside the picture.
       Eigen::Vector2d at = result->corner_px + 0.6 * (result->line_end_px[a] - result->corner_px);
       at.x() = std::clamp(at.x() + 10, 4.0, std::max(4.0, color.cols - 420.0));
-      at.y() = std::clamp(at.y(), 110.0, std::max(110.0, color.rows - 40.0));
+      at.y() = std::clamp(at.y(), 110.0, std::max(110.0, color.rows - 60.0));
       PutOutlinedText(color, label.str(), Pt(at), 0.55, label_colors[a], 1);
+      PutOutlinedText(color, share.str(), Pt(at + Eigen::Vector2d(0, 20)), 0.55, label_colors[a],
+                      1);
     }
     // What the pose predicts: each axis through the lens, to the border, drawn over the
     // measured edges (thin white): where the two part, the edges do not agree with the pose.
@@ -169,6 +175,7 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
     line->set_edge_rms_px(s.rms_px);
     line->set_sigma_px(s.sigma_px);
     line->set_misfit_px(s.misfit_px);
+    line->set_position_variance_share(s.position_variance_share);
   }
   out.set_source(ToString(r->source));
   out.set_suspect(r->suspect);

@@ -119,6 +119,10 @@ struct CornerRefinement {
   CornerPose pose;
   Eigen::Matrix<double, 5, 5> covariance;  // (x, y, pan, tilt, swing): m^2, rad^2
   double rms_px = 0;                       // RMS line residual after refinement, pixels
+  // What each line's noise (and bias) adds to var(x) + var(y), m^2. The covariance is a sum
+  // over the lines (each line's residuals are independent of the others'), so these add up
+  // to covariance(0, 0) + covariance(1, 1): which edge limits the position, and how much.
+  std::array<double, 3> horizontal_variance_m2_by_line{};
 };
 
 // Nonlinear least squares of (x, y, pan, tilt, swing) on the line observations (z fixed),

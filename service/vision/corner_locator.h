@@ -30,6 +30,10 @@ struct EdgeSupport {
   double sigma_px = 0;           // 1 sigma of the fitted line's position at its middle
   double misfit_px = 0;          // how far its own line sits from the pose's (RMS over it)
   int points = 0;                // edge points used
+  // The part of the horizontal position's variance, var(x) + var(y), that this edge's
+  // measurement noise gives (0-1; the three add up to 1): the edge that limits the pose.
+  // Of the pose from the image alone: the mount's level (corner_level.h) does not change it.
+  double position_variance_share = 0;
 };
 
 // Whether the pose came from a full detection or from following the previous frame's edges.

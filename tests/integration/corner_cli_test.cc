@@ -143,11 +143,16 @@ TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
     EXPECT_NEAR(out.y(), 1.5, 0.01) << lines[i];
     EXPECT_FALSE(out.suspect()) << out.suspect_reason();
     ASSERT_EQ(out.lines_size(), 3);
+    double shares = 0;
     for (const auto& line : out.lines()) {
       EXPECT_GT(line.contrast_to_noise(), 2) << line.axis();
       EXPECT_GT(line.coverage(), 0.3) << line.axis();
       EXPECT_GT(line.length_px(), 80) << line.axis();
+      // Each edge's part of the position's variance: tracked frames as detected ones.
+      EXPECT_GT(line.position_variance_share(), 0) << line.axis();
+      shares += line.position_variance_share();
     }
+    EXPECT_NEAR(shares, 1.0, 1e-6) << lines[i];
   }
   // Without --track every frame is detected.
   r = RunMonocle(dir_,
