@@ -50,7 +50,8 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            error
   --overlay DIR            write DIR/<image>.overlay.png: the edges measured (thick), the
                            edges the pose predicts (thin white, to the border), each edge's
-                           support (length, coverage, contrast/noise, misfit), the pose;
+                           support (length, coverage, contrast/noise, misfit, its part
+                           of the position's variance), the pose;
                            without a pose, the straight edges seen and why
   --track                  the images are an ordered sequence (frames of a video): predict
                            the three edges from the previous pose and measure them there
@@ -87,12 +88,14 @@ An image whose pose in the map is not decided counts as failed for the exit stat
 
 Every pose says how well the image supports it: per edge the length found, its contrast
 against the image's noise (noise_grey: as an edge measurement averaging pixels sees it, so
-JPEG frames and raw frames read alike), and how far its points lie from the pose's line. A
-pose with an edge fainter than that noise, whose edges disagree, or that is weakly
-determined (1 sigma above 1.5 % of the distance), is printed as SUSPECT with the reason;
-it is never dropped silently. So is a pose that rolls the camera more than 45 degrees
-about its axis (a floor corner read as the ceiling's): a camera mounted rolled further
-sets corner { max_swing: RADIANS } in its calibration file.
+JPEG frames and raw frames read alike), how far its points lie from the pose's line, and
+what part of the position's variance it gives (position_variance_share: the edge that
+limits the pose). A pose with an edge fainter than that noise, whose edges disagree, or
+that is weakly determined (1 sigma above 1.5 % of the distance; the reason names the edge
+giving most of it) is printed as SUSPECT with the reason; it is never dropped silently. So
+is a pose that rolls the camera more than 45 degrees about its axis (a floor corner read
+as the ceiling's): a camera mounted rolled further sets corner { max_swing: RADIANS } in its
+calibration file.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --camera ID              the camera's poses as monocled publishes them (same JSON as
