@@ -34,18 +34,21 @@ constexpr const char* kViewHelp =
                     [--domain D] [--timeout S] [--security DIR]
 
 Saves the service's live frame of a camera with what the service measured in it drawn on it:
-for a corner camera the three edges its pose predicts (through the lens, white), the corner,
-the pose (metres, degrees in the corner frame), detected or tracked, SUSPECT with its reason;
-for a floor camera the distances ahead on the floor (metres), the horizon and the robot
-frame's axes from the camera's floor calibration. The frame comes from the camera's ROS 2
-image_raw topic (published while someone subscribes, at most image_max_rate_hz).
+for a corner camera the three edges its pose predicts (through the lens; X red, Y green,
+Z blue), the corner, the pose (metres, degrees in the corner frame), detected or tracked,
+SUSPECT with its reason; for a floor camera the distances ahead on the floor (metres), the
+horizon and the robot frame's axes from the camera's floor calibration. The frame comes from
+the camera's ROS 2 image_raw topic (published while someone subscribes, at most
+image_max_rate_hz).
 
   --camera ID     the camera (`monocle status` lists them)
   --out LIVE.png  where to save the picture (replaced in one step: a viewer never reads half)
   --every S       save a new picture every S seconds until Ctrl-C (default: once)
   --count N       stop after N pictures (with --every)
   --domain D      DDS domain id (default 0); --timeout S: give up after S seconds without a
-                  frame (default 10)
+                  frame (default 10). A corner camera's picture waits for a frame whose pose
+                  this view can hear; with no pose heard in S seconds it shows the last frame
+                  and says so
   --security DIR  this client's identity of a secured service's keystore (default
                   $MONOCLE_SECURITY)
 )help";
@@ -63,10 +66,12 @@ void PutText(cv::Mat& image, const std::string& text, cv::Point at, double scale
   PutOutlinedText(image, text, at, scale, colour, 1);
 }
 
-// The corner camera's picture: the pose of this very frame (or why there is none).
-void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::optional<Pose>& pose) {
+// The corner camera's picture: the pose of this very frame (or why there is none,
+// `no_pose_reason`).
+void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::optional<Pose>& pose,
+                    const std::string& no_pose_reason) {
   if (!pose) {
-    PutText(image, "no pose for this frame (the service skipped it while busy)", {12, 32}, 0.7,
+    PutText(image, "no pose for this frame (" + no_pose_reason + ")", {12, 32}, 0.7,
             cv::Scalar(0, 200, 255));
     return;
   }
@@ -174,14 +179,20 @@ int ViewCommand(const std::vector<std::string>& argv) {
   const CameraIntrinsics k = file->intrinsics;
   const bool corner = cam->role != "floor";
 
-  // Poses of this camera, kept for a moment to meet their frames.
+  // Poses of this camera, kept for a moment to meet their frames. A frame's pose can be met
+  // only if it was published after this subscription began to hear the service: the service
+  // publishes poses in frame order, so that holds for every frame from the first pose heard
+  // on. An earlier frame (the image reader may match first) would wait for a pose it can
+  // never hear and be taken for one the service skipped.
   std::mutex mutex;
   std::deque<Pose> poses;
+  std::optional<int64_t> first_pose_stamp_ns;
   std::optional<Subscription> subscription;
   if (corner) {
     auto sub = client->subscribe_poses(
         [&](const Pose& p) {
           std::lock_guard<std::mutex> lock(mutex);
+          if (!first_pose_stamp_ns) first_pose_stamp_ns = p.capture_time_ns;
           poses.push_back(p);
           if (poses.size() > 200) poses.pop_front();
         },
@@ -207,8 +218,9 @@ int ViewCommand(const std::vector<std::string>& argv) {
   int saved = 0;
   auto next_due = std::chrono::steady_clock::now();
   while (!g_stop && saved < *count) {
-    // The next frame after the picture is due.
-    std::optional<LiveFrame> frame;
+    // The next frame after the picture is due; for a corner camera, one whose pose can be
+    // heard. `unpaired`: the newest frame before that, shown without a pose if no pose comes.
+    std::optional<LiveFrame> frame, unpaired;
     const auto give_up = std::max(std::chrono::steady_clock::now(), next_due) +
                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                              std::chrono::duration<double>(*timeout_s));
@@ -226,10 +238,19 @@ int ViewCommand(const std::vector<std::string>& argv) {
       });
       if (!taken) return Fail(taken.error(), kExitFailure);
       if (std::chrono::steady_clock::now() < next_due) continue;
-      for (auto& f : *taken)
-        if (!f.grey.empty()) frame = std::move(f);
+      for (auto& f : *taken) {
+        if (f.grey.empty()) continue;
+        bool pose_can_arrive = true;
+        if (corner) {
+          std::lock_guard<std::mutex> lock(mutex);
+          pose_can_arrive = first_pose_stamp_ns && f.stamp_ns >= *first_pose_stamp_ns;
+        }
+        (pose_can_arrive ? frame : unpaired) = std::move(f);
+      }
     }
     if (g_stop) break;
+    const bool no_pose_heard = !frame && unpaired;
+    if (no_pose_heard) frame = std::move(unpaired);
     if (!frame) {
       return Fail("no frame from camera '" + *camera + "' on " + topic + " within " +
                       std::to_string(static_cast<int>(*timeout_s)) +
@@ -245,7 +266,7 @@ int ViewCommand(const std::vector<std::string>& argv) {
       // 5 s (a busy or slow service, e.g. a sanitizer build, takes more than a frame time).
       std::optional<Pose> pose;
       bool skipped = false;
-      for (int i = 0; i < 250 && !pose && !skipped; ++i) {
+      for (int i = 0; i < 250 && !pose && !skipped && !no_pose_heard; ++i) {
         {
           std::lock_guard<std::mutex> lock(mutex);
           for (const auto& p : poses) {
@@ -255,7 +276,9 @@ int ViewCommand(const std::vector<std::string>& argv) {
         }
         if (!pose && !skipped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
-      DrawCornerView(picture, k, pose);
+      DrawCornerView(picture, k, pose,
+                     no_pose_heard ? "no pose heard from the service within --timeout"
+                                   : "the service skipped it while busy");
     } else if (file->floor) {
       const FloorPose& floor = file->floor->pose;
       DrawFloorFrame(picture, k, floor);

@@ -35,6 +35,12 @@ std::vector<Eigen::Vector2d> Project(const CameraIntrinsics& k, const CornerPose
 // Distances t (m) along `axis` from the corner to `length_m`, spaced about kSpacingPx apart in
 // the undistorted image. With the point at t in the camera frame c + t d, s = t / (c_z + t d_z)
 // makes the undistorted image point linear in s, so equal steps in s are equal steps there.
+// Only the stretch whose undistorted image lies within twice the image's extent about the
+// principal point: the rest cannot be in the image (the lenses used here bend a point by a few
+// percent, and monotonically), and an edge running towards the camera's plane would otherwise
+// be sampled over up to 10^5 px of image beyond the frame: the bounds of 72 realistic views took
+// 50 s, 22 s with this (7 s since the reference camera's undistortion stops once converged).
+// The bounds agree with before within 0.3 % (the samples fall elsewhere along the edge).
 std::vector<double> DistancesAlongEdge(const CameraIntrinsics& k, const CornerPose& pose, int axis,
                                        double length_m) {
   const Eigen::Matrix3d r = reference::RotationCameraFromCorner(pose);
@@ -43,13 +49,27 @@ std::vector<double> DistancesAlongEdge(const CameraIntrinsics& k, const CornerPo
   if (c.z() <= kMinDepthM) return {};
   double end_m = length_m;
   if (c.z() + end_m * d.z() < kMinDepthM) end_m = (kMinDepthM - c.z()) / d.z();
-  const double s_end = end_m / (c.z() + end_m * d.z());
-  const Eigen::Vector2d image_rate = d.head<2>() - d.z() * c.head<2>() / c.z();
-  const double length_px = k.fx * image_rate.norm() * s_end;
+  double s_begin = 0, s_end = end_m / (c.z() + end_m * d.z());
+  const Eigen::Vector2d origin = c.head<2>() / c.z();
+  const Eigen::Vector2d image_rate = d.head<2>() - d.z() * origin;
+  const Eigen::Vector2d half_extent(2 * std::max(k.cx, k.width_px - k.cx) / k.fx,
+                                    2 * std::max(k.cy, k.height_px - k.cy) / k.fy);
+  for (int i = 0; i < 2; ++i) {
+    if (std::abs(image_rate[i]) < 1e-12) {
+      if (std::abs(origin[i]) > half_extent[i]) return {};
+      continue;
+    }
+    const double a = (-half_extent[i] - origin[i]) / image_rate[i];
+    const double b = (half_extent[i] - origin[i]) / image_rate[i];
+    s_begin = std::max(s_begin, std::min(a, b));
+    s_end = std::min(s_end, std::max(a, b));
+  }
+  if (!(s_end > s_begin)) return {};
+  const double length_px = k.fx * image_rate.norm() * (s_end - s_begin);
   const int count = std::clamp(static_cast<int>(length_px / kSpacingPx) + 2, 2, 400000);
   std::vector<double> t(count);
   for (int i = 0; i < count; ++i) {
-    const double s = s_end * i / (count - 1);
+    const double s = s_begin + (s_end - s_begin) * i / (count - 1);
     t[i] = s * c.z() / (1 - s * d.z());
   }
   return t;
