@@ -204,8 +204,8 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
     normals.emplace_back(-along.y(), along.x());
   }
   // Either sign, decided per 32 px stretch: the contrast may fade and turn along an edge.
-  // A blurred edge is measured with the derivative filter matched to its blur.
-  const double derivative_sigma_px = MatchedDerivativeSigmaPx(edges->blur_sigma_px[m]);
+  // A blurred edge is measured with a derivative of a Gaussian wider than its blur.
+  const double derivative_sigma_px = EdgeDerivativeSigmaPx(edges->blur_sigma_px[m]);
   std::vector<EdgePointSample> second;
   for (size_t begin = 0; begin < positions.size(); begin += 16) {
     const size_t end = std::min(positions.size(), begin + 16);

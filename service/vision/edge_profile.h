@@ -62,10 +62,10 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
 double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples);
 
 // The derivative filter's sigma for measuring an edge of this blur (pixels): 0 (the default
-// filter) for an edge blurred by 1 px or less, else the blur itself: the matched filter for
-// a blurred step in noise. (1.5x the blur did better on the corner renders but worse on the
-// room drive, README "Corner pose".)
-double MatchedDerivativeSigmaPx(double blur_sigma_px);
+// filter) for an edge blurred by 0.8 px or less, else 1.6x the blur: wider than the filter
+// matched to the blur, which detects a blurred step in noise best but locates it less
+// precisely (README "Corner pose", "The derivative filter's width").
+double EdgeDerivativeSigmaPx(double blur_sigma_px);
 
 // One short stretch of an edge (a chunk of neighbouring samples): keeps the points whose
 // step has the sign most of them have, none if fewer than 3 agree. Along one edge the
