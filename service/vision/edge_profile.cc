@@ -451,9 +451,9 @@ double EdgeDerivativeSigmaPx(double blur_sigma_px) {
   // peak is located with only a third of the pixels' information; a wider one locates it
   // better (to first order in the noise, 1.2x the bound at 2.2x the blur against 1.7x) and
   // reaches further into each surface, where a shading slope on one side moves the peak by
-  // (slope difference) * width^2 / step. 1.6x is the measured balance (README, "Corner
-  // pose"). Below 0.8 px (sharp renders, a well-focused lens) the default filter, itself
-  // ~0.9 px wide, is as good.
+  // (slope difference) * width^2 / step. 1.6x is the measured balance (README, "The
+  // derivative filter's width"). Below 0.8 px (sharp renders, a well-focused lens) the
+  // default filter, itself ~0.9 px wide, is as good.
   constexpr double kWidthOverBlur = 1.6;
   constexpr double kSharpBelowPx = 0.8;
   return blur_sigma_px > kSharpBelowPx ? kWidthOverBlur * blur_sigma_px : 0.0;
