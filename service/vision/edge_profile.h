@@ -33,8 +33,9 @@ double EstimateMeasurementNoiseSigma(const cv::Mat& grey);
 // saturated surface moves the steepest rise off the edge). Misses are skipped.
 //
 // `derivative_sigma_px` 0: the derivative is the central difference smoothed by [1 2 1] / 4,
-// right for sharp edges; > 0: a derivative of a Gaussian of that sigma, the matched filter
-// for a blurred edge (see EdgeBlurSigmaPx).
+// right for sharp edges; > 0: a derivative of a Gaussian of that sigma, for a blurred edge
+// (sigma = its blur is the matched filter; the locator uses a wider one,
+// EdgeDerivativeSigmaPx).
 struct EdgePointSample {
   Eigen::Vector2d point_px;
   double step_grey = 0;          // signed along the normal
