@@ -12,12 +12,14 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <optional>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "camera/render/corner_renderer.h"
 #include "camera/render/reference_camera.h"
@@ -67,8 +69,6 @@ struct Stats {
   // (ApplyMountLevel), for each level 1 sigma (degrees) of kLevelSigmasDeg.
   std::vector<std::pair<double, Stats>> levelled;
 
-  // The p95 of the relative error an efficient estimator (one whose errors are the bound's
-  // Gaussian) makes over these views: the median over many draws.
   // The median over the poses of |error| / the bound's sqrt(trace): 0.83 for an efficient
   // estimator (a round Gaussian's), more for a worse one.
   double MedianErrorOverBound() const {
@@ -77,11 +77,13 @@ struct Stats {
     return Percentile(ratio, 0.5);
   }
 
-  double EfficientP95() const {
-    if (bound_xy_m2.empty()) return std::numeric_limits<double>::quiet_NaN();
+  // The p95 of the relative error an efficient estimator (one whose errors are the bound's
+  // Gaussian) makes over these views, for each of 2000 draws of its errors, sorted.
+  std::vector<double> EfficientP95Draws() const {
+    std::vector<double> p95s;
+    if (bound_xy_m2.empty()) return p95s;
     std::mt19937_64 rng(1);
     std::normal_distribution<double> normal;
-    std::vector<double> p95s;
     for (int draw = 0; draw < 2000; ++draw) {
       std::vector<double> rel;
       for (size_t i = 0; i < bound_xy_m2.size(); ++i) {
@@ -90,7 +92,45 @@ struct Stats {
       }
       p95s.push_back(Percentile(rel, 0.95));
     }
-    return Percentile(p95s, 0.5);
+    std::sort(p95s.begin(), p95s.end());
+    return p95s;
+  }
+  // Its typical p95: the median over the draws.
+  double EfficientP95() const { return Percentile(EfficientP95Draws(), 0.5); }
+  // How often an efficient estimator would meet p95 <= `goal` on these views: the fraction of
+  // its draws that do. Near 0.5 the goal is at the limit of what the edges' pixels allow.
+  double EfficientMeetsP95(double goal) const {
+    const std::vector<double> p95s = EfficientP95Draws();
+    if (p95s.empty()) return std::numeric_limits<double>::quiet_NaN();
+    const auto met = std::upper_bound(p95s.begin(), p95s.end(), goal) - p95s.begin();
+    return static_cast<double>(met) / static_cast<double>(p95s.size());
+  }
+
+  // Adds another set's views to these (pooling seeds): counts add, per-view lists join.
+  void Merge(const Stats& o) {
+    images += o.images, located += o.located, suspect += o.suspect;
+    unflagged_large += o.unflagged_large;
+    covered += o.covered, coverage_trials += o.coverage_trials, covered_2sigma += o.covered_2sigma;
+    sigma_over_1pct += o.sigma_over_1pct, error_over_1pct += o.error_over_1pct;
+    expected_over_1pct += o.expected_over_1pct;
+    auto join = [](std::vector<double>* to, const std::vector<double>& from) {
+      to->insert(to->end(), from.begin(), from.end());
+    };
+    join(&weak_view_z2, o.weak_view_z2);
+    join(&horizontal_rel, o.horizontal_rel), join(&tilt_deg, o.tilt_deg);
+    join(&pan_deg, o.pan_deg), join(&swing_deg, o.swing_deg);
+    join(&horizontal_rel_trusted, o.horizontal_rel_trusted);
+    join(&horizontal_rel_short_edge, o.horizontal_rel_short_edge);
+    join(&horizontal_rel_long_edges, o.horizontal_rel_long_edges);
+    join(&bound_rel, o.bound_rel), join(&reported_rel, o.reported_rel);
+    join(&distance_m, o.distance_m);
+    bound_xy_m2.insert(bound_xy_m2.end(), o.bound_xy_m2.begin(), o.bound_xy_m2.end());
+    if (levelled.empty()) {
+      levelled = o.levelled;
+    } else {
+      for (size_t i = 0; i < levelled.size() && i < o.levelled.size(); ++i)
+        levelled[i].second.Merge(o.levelled[i].second);
+    }
   }
 
   static double Percentile(std::vector<double> v, double q) {
@@ -145,8 +185,10 @@ struct Stats {
               << 100 * Percentile(bound_rel, 0.5) << " %, p95 " << 100 * Percentile(bound_rel, 0.95)
               << " % of the distance; over 0.5 % in " << bound_over_half_pct
               << " views; an efficient estimator's p95 error " << 100 * EfficientP95()
-              << " %; reported 1 sigma / bound: median " << Percentile(reported_over_bound, 0.5)
-              << ", p95 " << Percentile(reported_over_bound, 0.95) << "; error / bound: median "
+              << " % (at most 1 % in " << 100 * EfficientMeetsP95(0.01)
+              << " % of its noise draws); reported 1 sigma / bound: median "
+              << Percentile(reported_over_bound, 0.5) << ", p95 "
+              << Percentile(reported_over_bound, 0.95) << "; error / bound: median "
               << MedianErrorOverBound() << "\n";
   }
 };
@@ -334,24 +376,15 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // NOT MET from the image alone: the issue asks p95 <= 1 %. On a robot that stands level to
-  // 0.1 degrees it is met (ExpectLevelledGoals). Measured 0.68-2.5 % over all poses and
-  // 0.60-1.14 % over the poses not flagged suspect (views with one short edge are weakly
-  // determined; the worst say so with a 1 sigma of 2-6 %). Gated at ~2x the worst measured so
-  // it cannot slip.
+  // p95 <= 1 % is judged over 1152 views (RealisticRoomsOverSixteenSeeds): over one set of 72
+  // views it is the fourth-worst error, and an efficient estimator misses it on seed 2611 in a
+  // third of noise draws. Here, per set, the poses not flagged suspect: measured 0.44-0.90 % on
+  // the test sets (views with one short edge are weakly determined; the worst say so with a 1
+  // sigma of 2-6 %), gated at about twice that so it cannot slip.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.02);
-  // Why p95 <= 1 % is not met: 7-14 % of these views report a 1 sigma over 1 % of the
-  // distance, and the reported 1 sigma predicts about as many poses more than 1 % off as
-  // there are. The Cramér–Rao bound (printed) says what any estimator could do from the same
-  // edges: an efficient one would reach p95 0.35-0.89 % on the seeds measured, so the goal is
-  // within the information but needs the weak views measured near the bound; ours are 1.1-1.3x
-  // the bound's median since blurred edges are measured with a filter 1.6x their blur, 1.3-1.5x
-  // before (README, "What the edges allow", "The derivative filter's width").
   // Where the tail is: the third of the views drawn with one edge a fifth of the image or
-  // shorter. Over 785 views of 11 seeds they hold 28 of the 40 poses more than 1 % off (p95
-  // 1.76 %); the views whose edges all run longer have p95 0.60 % (test seeds 0.53 / 0.36 %,
-  // raw 0.51 %; 0.34-0.93 % on 20 of 23 seeds, 1.21-1.66 % on three fresh ones). A
-  // regression gate at the goal's 1 %, about twice what these sets measure.
+  // shorter (p95 1.9 % over 1152 fresh views). The views whose edges all run longer: p95
+  // 0.45 % there, 0.42-0.63 % on the test sets. A regression gate at the goal's 1 %.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_long_edges, 0.95), 0.01);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
@@ -446,6 +479,43 @@ TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
   s.Print("realistic, second seed");
   ExpectRealisticGoals(s);
   ExpectLevelledGoals(s);
+}
+
+// Issue 11's goals over many views. The p95 of one set of 72 views is its fourth-worst error,
+// and it scatters from set to set far more than the estimator's quality does: even an
+// efficient estimator (errors of the Cramér–Rao bound's Gaussian) meets p95 <= 1 % on seed
+// 2611's views in only 66 % of noise draws (RealisticRooms prints it). The goal is a property
+// of the pose range, so it is judged here on 1152 views: sixteen seeds, 1400001-1400016, first
+// rendered on 2026-11-27 and run once before this test was written, nothing tuned on them.
+// Measured then: 1144 / 1152 located (56 suspect), median 0.082 %, p95 0.916 %, tilt median
+// 0.012 deg, 1 sigma coverage 74 %, none more than 5 % off unflagged; p95 <= 1 % on 10 of the 16
+// sets alone (0.37-2.36 %). Over 2880 views of 40 fresh seeds (these and 1200001-1200016,
+// 1300001-1300008; FreshSeedsOnDemand): p95 0.94 %, bootstrap 95 % interval 0.85-1.04 %.
+TEST(CornerAccuracyTest, RealisticRoomsOverSixteenSeeds) {
+  Stats s;
+  for (uint64_t seed = 1400001; seed <= 1400016; ++seed)
+    s.Merge(RenderAndLocate(72, seed, Look::kRealistic));
+  s.Print("realistic, 16 seeds pooled");
+  ASSERT_EQ(s.images, 16 * 72);
+  // Issue 11's goals, p95 included.
+  EXPECT_GE(s.located, 0.95 * s.images);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.01);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
+  EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
+  EXPECT_GE(s.Coverage(), 0.58);
+  EXPECT_LE(s.Coverage(), 0.78);
+  EXPECT_GE(s.Coverage2Sigma(), 0.90);
+  EXPECT_LE(s.MeanWeakViewZ2(), 2.0) << "the weakly determined views' 1 sigma is too small";
+  // Regression gates, 2-3x above what was measured (median 0.082 %, tilt 0.012 / 0.14 deg,
+  // pan 0.021 deg, swing 0.0096 deg; the views with one short edge p95 ~1.9 %).
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.002);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.03);
+  EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 0.4);
+  EXPECT_LE(Stats::Percentile(s.pan_deg, 0.5), 0.05);
+  EXPECT_LE(Stats::Percentile(s.swing_deg, 0.5), 0.025);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel_short_edge, 0.95), 0.04);
+  EXPECT_LE(Stats::Percentile(s.horizontal_rel_long_edges, 0.95), 0.01);
 }
 
 // The same views as RealisticRooms, uncompressed, as a machine-vision camera delivers them.
@@ -830,6 +900,77 @@ TEST(CornerAccuracyTest, AFlaggedCoarsePoseStandsWhenTheFinerSearchFindsNone) {
   EXPECT_TRUE(got->suspect);
   EXPECT_FALSE(got->suspect_only_imprecise) << got->suspect_reason;
   EXPECT_LT(RelativeHorizontalError(*got, *truth), 0.01);
+}
+
+// The p95 of `rel` with a bootstrap 95 % interval (2000 resamples of the views, which are
+// independent draws of pose, room and noise): {low, p95, high}.
+std::array<double, 3> P95WithInterval(const std::vector<double>& rel) {
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<size_t> pick(0, rel.size() - 1);
+  std::vector<double> p95s, resample(rel.size());
+  for (int draw = 0; draw < 2000; ++draw) {
+    for (double& r : resample) r = rel[pick(rng)];
+    p95s.push_back(Stats::Percentile(resample, 0.95));
+  }
+  return {Stats::Percentile(p95s, 0.025), Stats::Percentile(rel, 0.95),
+          Stats::Percentile(p95s, 0.975)};
+}
+
+// Seeds as MONOCLE_CORNER_SEEDS gives them: "FIRST-LAST", "SEED", or several of either joined
+// by commas. Empty when the text is not that (or names over 1000 seeds).
+std::vector<uint64_t> ParseSeeds(const std::string& text) {
+  std::vector<uint64_t> seeds;
+  std::stringstream parts(text);
+  std::string part;
+  while (std::getline(parts, part, ',')) {
+    char* rest = nullptr;
+    const unsigned long long first = std::strtoull(part.c_str(), &rest, 10);
+    unsigned long long last = first;
+    if (*rest == '-') last = std::strtoull(rest + 1, &rest, 10);
+    if (*rest != '\0' || first == 0 || last < first || seeds.size() + (last - first) >= 1000)
+      return {};
+    for (unsigned long long seed = first; seed <= last; ++seed) seeds.push_back(seed);
+  }
+  return seeds;
+}
+
+// Fresh seeds, on demand: MONOCLE_CORNER_SEEDS=FIRST-LAST[,FIRST-LAST...] renders 72 realistic
+// views per seed (MONOCLE_CORNER_RAW=1: without JPEG) and prints each set and the pooled set as
+// the tests above do, with each view's Cramér–Rao bound, how often an efficient estimator
+// would meet p95 <= 1 %, and the pooled p95's bootstrap interval. Skipped without the
+// variable. This is how the fresh-seed figures in README.md and
+// tests/accuracy/corner_pose_notes.md are measured (run a seed once, and never tune on it);
+// it asserts only that every set is large enough to judge.
+TEST(CornerAccuracyTest, FreshSeedsOnDemand) {
+  const char* text = std::getenv("MONOCLE_CORNER_SEEDS");
+  if (text == nullptr || *text == '\0')
+    GTEST_SKIP() << "set MONOCLE_CORNER_SEEDS=FIRST-LAST to render and judge fresh seeds";
+  const std::vector<uint64_t> seeds = ParseSeeds(text);
+  ASSERT_FALSE(seeds.empty()) << "MONOCLE_CORNER_SEEDS: give FIRST-LAST[,FIRST-LAST...], e.g. "
+                                 "1400001-1400016 (at most 1000 seeds), not \""
+                              << text << "\"";
+  const char* raw = std::getenv("MONOCLE_CORNER_RAW");
+  const Look look =
+      raw != nullptr && std::string(raw) == "1" ? Look::kRealisticRaw : Look::kRealistic;
+  Stats pooled;
+  int seeds_meeting_p95 = 0;
+  for (uint64_t seed : seeds) {
+    const Stats s = RenderAndLocate(72, seed, look, 1.0, /*with_bound=*/true);
+    s.Print(("seed " + std::to_string(seed)).c_str());
+    ASSERT_GE(s.images, 60) << "seed " << seed;
+    seeds_meeting_p95 += Stats::Percentile(s.horizontal_rel, 0.95) <= 0.01;
+    pooled.Merge(s);
+  }
+  pooled.Print(("pooled over seeds " + std::string(text)).c_str());
+  for (const auto& [sigma_deg, l] : pooled.levelled) {
+    const std::string name = "  pooled, on a robot level to " +
+                             std::to_string(sigma_deg).substr(0, 3) + " deg (1 sigma)";
+    l.Print(name.c_str());
+  }
+  const auto [low, p95, high] = P95WithInterval(pooled.horizontal_rel);
+  std::cout << "pooled p95 " << 100 * p95 << " % of the distance, 95 % interval " << 100 * low
+            << "-" << 100 * high << " % (bootstrap over the views); p95 <= 1 % on "
+            << seeds_meeting_p95 << " of " << seeds.size() << " seeds\n";
 }
 
 }  // namespace
