@@ -25,25 +25,28 @@ float Bilinear(const cv::Mat& img, double x, double y) {
 
 namespace {
 
+// Pixels at the sensor's limits (a lamp's glare, a black hole): their noise is clipped away, so
+// the noise estimates leave out every difference that touches one (>= 253 or <= 2 grey: JPEG
+// rounds a clipped white surface to 253-255). A frame three quarters clipped white read 0.07
+// grey of noise for 3.5 (seed 1500001's view 3), and every edge stood 50x out of it.
+constexpr uint8_t kSaturatedWhite = 253, kSaturatedBlack = 2;
+bool Saturated(uint8_t v) { return v >= kSaturatedWhite || v <= kSaturatedBlack; }
+
 // The rows EstimateNoiseSigma reads: every fourth, every eighth from 512 rows (still 80 000
 // differences, and a tenth of a detection's time less).
 int NoiseRowStep(const cv::Mat& grey) { return grey.rows >= 512 ? 8 : 4; }
 
-// The histogram of |I(x+1) - I(x)| over those rows. Four histograms filled in turn, summed
-// after: consecutive increments of one bin (most differences are 0-3) otherwise wait for each
-// other.
+// The histogram of |I(x+1) - I(x)| over those rows, saturated pixels left out. Four histograms
+// filled in turn, summed after: consecutive increments of one bin (most differences are 0-3)
+// otherwise wait for each other. Only the median's fall-back when it lies beyond the small
+// bins (a rough image), so plainly written.
 std::array<int64_t, 256> DifferenceHistogram(const cv::Mat& grey) {
   std::array<std::array<int32_t, 256>, 4> partial{};
   for (int y = 1; y < grey.rows; y += NoiseRowStep(grey)) {
     const uint8_t* row = grey.ptr<uint8_t>(y);
-    int x = 0;
-    for (; x + 4 < grey.cols; x += 4) {
-      ++partial[0][std::abs(row[x + 1] - row[x])];
-      ++partial[1][std::abs(row[x + 2] - row[x + 1])];
-      ++partial[2][std::abs(row[x + 3] - row[x + 2])];
-      ++partial[3][std::abs(row[x + 4] - row[x + 3])];
-    }
-    for (; x + 1 < grey.cols; ++x) ++partial[0][std::abs(row[x + 1] - row[x])];
+    for (int x = 0; x + 1 < grey.cols; ++x)
+      if (!Saturated(row[x]) && !Saturated(row[x + 1]))
+        ++partial[x & 3][std::abs(row[x + 1] - row[x])];
   }
   std::array<int64_t, 256> histogram{};
   for (const auto& h : partial)
@@ -63,15 +66,18 @@ constexpr int kSmallBins = 8;
 std::array<int64_t, kSmallBins + 1> SmallDifferenceCounts(const cv::Mat& grey) {
   std::array<int64_t, kSmallBins + 1> counts{};  // the last: kSmallBins and more
   std::array<Bytes16, kSmallBins> lanes{};
+  Bytes16 counted_lanes{};  // differences between two unsaturated pixels
+  int64_t counted = 0;
   int chunks = 0;
   auto flush = [&] {
     for (int d = 0; d < kSmallBins; ++d) {
       for (int lane = 0; lane < 16; ++lane) counts[d] += lanes[d][lane];
       lanes[d] = Bytes16{};
     }
+    for (int lane = 0; lane < 16; ++lane) counted += counted_lanes[lane];
+    counted_lanes = Bytes16{};
     chunks = 0;
   };
-  int64_t all = 0;
   for (int y = 1; y < grey.rows; y += NoiseRowStep(grey)) {
     const uint8_t* row = grey.ptr<uint8_t>(y);
     int x = 0;
@@ -80,20 +86,25 @@ std::array<int64_t, kSmallBins + 1> SmallDifferenceCounts(const cv::Mat& grey) {
       std::memcpy(&a, row + x, 16);
       std::memcpy(&b, row + x + 1, 16);
       const Bytes16 difference = (a > b) ? Bytes16(a - b) : Bytes16(b - a);
-      for (int d = 0; d < kSmallBins; ++d)
-        lanes[d] -= reinterpret_cast<Bytes16>(difference == static_cast<uint8_t>(d));  // -1: +1
+      const Bytes16 high = (a > b) ? a : b, low = (a > b) ? b : a;
+      const auto unsaturated = (high < kSaturatedWhite) & (low > kSaturatedBlack);  // -1 / 0
+      counted_lanes -= reinterpret_cast<Bytes16>(unsaturated);
+      for (int d = 0; d < kSmallBins; ++d)  // -1: +1
+        lanes[d] -=
+            reinterpret_cast<Bytes16>((difference == static_cast<uint8_t>(d)) & unsaturated);
       if (++chunks == 255) flush();  // before a byte lane can overflow
     }
     for (; x + 1 < grey.cols; ++x) {
+      if (Saturated(row[x]) || Saturated(row[x + 1])) continue;
+      ++counted;
       const int d = std::abs(row[x + 1] - row[x]);
       if (d < kSmallBins) ++counts[d];
     }
-    all += grey.cols - 1;
   }
   flush();
   int64_t small = 0;
   for (int d = 0; d < kSmallBins; ++d) small += counts[d];
-  counts[kSmallBins] = all - small;
+  counts[kSmallBins] = counted - small;
   return counts;
 }
 
@@ -143,17 +154,26 @@ double EstimateMeasurementNoiseSigma(const cv::Mat& grey) {
   const int runs = grey.cols / kRun;
   const int row_step = grey.rows >= 512 ? 16 : 4;  // 1280x1024: 64 rows, 10 000 differences
   thread_local std::vector<int32_t> sums;
+  thread_local std::vector<uint8_t> saturated;  // the run holds a saturated pixel
   sums.resize(runs);
+  saturated.resize(runs);
   for (int y = row_step / 2; y < grey.rows; y += row_step) {
     const uint8_t* row = grey.ptr<uint8_t>(y);
     for (int i = 0; i < runs; ++i) {
       int32_t sum = 0;
-      for (int j = 0; j < kRun; ++j) sum += row[i * kRun + j];
+      bool any_saturated = false;
+      for (int j = 0; j < kRun; ++j) {
+        sum += row[i * kRun + j];
+        any_saturated |= Saturated(row[i * kRun + j]);
+      }
       sums[i] = sum;
+      saturated[i] = any_saturated;
     }
-    for (int i = 1; i + 1 < runs; ++i)
+    for (int i = 1; i + 1 < runs; ++i) {
+      if (saturated[i - 1] || saturated[i] || saturated[i + 1]) continue;
       ++histogram[std::min(std::abs(sums[i - 1] - 2 * sums[i] + sums[i + 1]), kBins - 1)];
-    count += runs - 2;
+      ++count;
+    }
   }
   if (count == 0) return 0;
   const double half = 0.5 * static_cast<double>(count);

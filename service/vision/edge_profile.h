@@ -11,7 +11,9 @@ namespace monocle {
 
 // Pixel noise of an image, grey levels (1 sigma): from the median absolute difference of
 // horizontally adjacent pixels, which flat surfaces dominate in a room. Never much below
-// 8-bit quantization (~0.26 for a constant image).
+// 8-bit quantization (~0.26 for a constant image). Both estimates leave out saturated pixels
+// (>= 253 or <= 2 grey), whose noise is clipped away: a frame mostly white with glare has the
+// noise of its unclipped part (0 when nothing is unclipped).
 double EstimateNoiseSigma(const cv::Mat& grey);
 
 // The noise a measurement that averages pixels sees, grey levels (1 sigma, as white noise
