@@ -376,11 +376,12 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // p95 <= 1 % is judged over 1152 views (RealisticRoomsOverSixteenSeeds): over one set of 72
-  // views it is the fourth-worst error, and an efficient estimator misses it on seed 2611 in a
-  // third of noise draws. Here, per set, the poses not flagged suspect: measured 0.44-0.90 % on
-  // the test sets (views with one short edge are weakly determined; the worst say so with a 1
-  // sigma of 2-6 %), gated at about twice that so it cannot slip.
+  // p95 <= 1 % is checked over 1152 views (RealisticRoomsOverSixteenSeeds; over 4032 fresh
+  // views it is 0.98 %, at the goal): over one set of 72 views it is the fourth-worst error,
+  // and an efficient estimator misses it on seed 2611 in a third of noise draws. Here, per set, the
+  // poses not flagged suspect: measured 0.44-0.90 % on the test sets (views with one short edge are
+  // weakly determined; the worst say so with a 1 sigma of 2-6 %), gated at about twice that so it
+  // cannot slip.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.02);
   // Where the tail is: the third of the views drawn with one edge a fifth of the image or
   // shorter (p95 1.9 % over 1152 fresh views). The views whose edges all run longer: p95
@@ -484,20 +485,21 @@ TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
 // Issue 11's goals over many views. The p95 of one set of 72 views is its fourth-worst error,
 // and it scatters from set to set far more than the estimator's quality does: even an
 // efficient estimator (errors of the Cramér–Rao bound's Gaussian) meets p95 <= 1 % on seed
-// 2611's views in only 66 % of noise draws (RealisticRooms prints it). The goal is a property
-// of the pose range, so it is judged here on 1152 views: sixteen seeds, 1400001-1400016, first
-// rendered on 2026-11-27 and run once before this test was written, nothing tuned on them.
-// Measured then: 1144 / 1152 located (56 suspect), median 0.082 %, p95 0.916 %, tilt median
-// 0.012 deg, 1 sigma coverage 74 %, none more than 5 % off unflagged; p95 <= 1 % on 10 of the 16
-// sets alone (0.37-2.36 %). Over 2880 views of 40 fresh seeds (these and 1200001-1200016,
-// 1300001-1300008; FreshSeedsOnDemand): p95 0.94 %, bootstrap 95 % interval 0.85-1.04 %.
+// 2611's views in only 66 % of noise draws (RealisticRooms prints it). So every goal is
+// checked here on 1152 views: sixteen seeds, 1400001-1400016, first rendered on 2026-11-27 and
+// run once before this test was written, nothing tuned on them. Measured then: 1144 / 1152
+// located (56 suspect), median 0.082 %, p95 0.91 %, tilt median 0.012 deg, 1 sigma coverage
+// 74 %, none more than 5 % off unflagged. The p95 gate is the goal's 1 %, and this set meets
+// it; the population sits on it rather than under it: over 4032 views of 56 fresh seeds
+// (FreshSeedsOnDemand) p95 is 0.98 % (bootstrap 95 % interval 0.91-1.11 %), over 1600001-1600016
+// 1.03 %, per set of 72 0.37-4.9 % (README, "Corner pose").
 TEST(CornerAccuracyTest, RealisticRoomsOverSixteenSeeds) {
   Stats s;
   for (uint64_t seed = 1400001; seed <= 1400016; ++seed)
     s.Merge(RenderAndLocate(72, seed, Look::kRealistic));
   s.Print("realistic, 16 seeds pooled");
   ASSERT_EQ(s.images, 16 * 72);
-  // Issue 11's goals, p95 included.
+  // Issue 11's goals, p95 included (see above: a gate at the goal on a set that meets it).
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.01);
