@@ -489,7 +489,7 @@ TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
 // checked here on 1152 views: sixteen seeds, 1400001-1400016, first rendered on 2026-11-27 and
 // run once before this test was written, nothing tuned on them. Measured then: 1144 / 1152
 // located (57 suspect), median 0.082 %, p95 0.91 %, tilt median 0.012 deg, 1 sigma coverage
-// 74 %, none more than 5 % off unflagged. The p95 gate is the goal's 1 %, and this set meets
+// 73 %, none more than 5 % off unflagged. The p95 gate is the goal's 1 %, and this set meets
 // it; the population sits on it rather than under it: over 4032 views of 56 fresh seeds
 // (FreshSeedsOnDemand) p95 is 0.98 % (bootstrap 95 % interval 0.91-1.11 %), over 1600001-1600016
 // 1.03 %, per set of 72 0.37-4.9 % (README, "Corner pose").
@@ -906,6 +906,8 @@ TEST(CornerAccuracyTest, AFlaggedCoarsePoseStandsWhenTheFinerSearchFindsNone) {
 // The p95 of `rel` with a bootstrap 95 % interval (2000 resamples of the views, which are
 // independent draws of pose, room and noise): {low, p95, high}.
 std::array<double, 3> P95WithInterval(const std::vector<double>& rel) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (rel.empty()) return {nan, nan, nan};
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<size_t> pick(0, rel.size() - 1);
   std::vector<double> p95s, resample(rel.size());
