@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -28,6 +29,7 @@
 #include "service/vision/corner_level.h"
 #include "service/vision/corner_locator.h"
 #include "tests/accuracy/corner_edge_information.h"
+#include "tests/accuracy/corner_view_record.h"
 
 namespace monocle {
 namespace {
@@ -65,6 +67,8 @@ struct Stats {
   // root of the trace).
   std::vector<double> bound_rel, reported_rel, distance_m;
   std::vector<Eigen::Matrix2d> bound_xy_m2;
+  // The same per view, to compare two versions of the locator view by view.
+  std::vector<testing::CornerViewRecord> views;
   // Realistic looks: the same poses combined with the level of a robot they are mounted on
   // (ApplyMountLevel), for each level 1 sigma (degrees) of kLevelSigmasDeg.
   std::vector<std::pair<double, Stats>> levelled;
@@ -125,6 +129,7 @@ struct Stats {
     join(&bound_rel, o.bound_rel), join(&reported_rel, o.reported_rel);
     join(&distance_m, o.distance_m);
     bound_xy_m2.insert(bound_xy_m2.end(), o.bound_xy_m2.begin(), o.bound_xy_m2.end());
+    views.insert(views.end(), o.views.begin(), o.views.end());
     if (levelled.empty()) {
       levelled = o.levelled;
     } else {
@@ -315,6 +320,9 @@ Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale 
       stats.bound_rel.push_back(std::sqrt(bound.trace()) / t.norm());
       stats.distance_m.push_back(t.norm());
       stats.reported_rel.push_back(std::hypot(got->Sigma()[0], got->Sigma()[1]) / t.norm());
+      stats.views.push_back({seed, i, 100 * RelativeHorizontalError(*got, *truth),
+                             100 * stats.bound_rel.back(), 100 * stats.reported_rel.back(),
+                             got->suspect, i % 3 == 0});
     }
     Record(*got, *truth, &stats);
     if (realistic) {
@@ -941,7 +949,10 @@ std::vector<uint64_t> ParseSeeds(const std::string& text) {
 // views per seed (MONOCLE_CORNER_RAW=1: without JPEG) and prints each set and the pooled set as
 // the tests above do, with each view's Cramér–Rao bound, how often an efficient estimator
 // would meet p95 <= 1 %, and the pooled p95's bootstrap interval. Skipped without the
-// variable. This is how the fresh-seed figures in README.md and
+// variable. To judge a change to the locator view by view (corner_view_record.h):
+// MONOCLE_CORNER_VIEWS_OUT=FILE writes each view's error, bound and 1 sigma, and
+// MONOCLE_CORNER_VIEWS_BEFORE=FILE, a file written so before the change on the same seeds,
+// prints how each view's error moved. This is how the fresh-seed figures in README.md and
 // tests/accuracy/corner_pose_notes.md are measured (run a seed once, and never tune on it);
 // it asserts only that every set is large enough to judge.
 TEST(CornerAccuracyTest, FreshSeedsOnDemand) {
@@ -974,6 +985,21 @@ TEST(CornerAccuracyTest, FreshSeedsOnDemand) {
   std::cout << "pooled p95 " << 100 * p95 << " % of the distance, 95 % interval " << 100 * low
             << "-" << 100 * high << " % (bootstrap over the views); p95 <= 1 % on "
             << seeds_meeting_p95 << " of " << seeds.size() << " seeds\n";
+  if (const char* out_path = std::getenv("MONOCLE_CORNER_VIEWS_OUT")) {
+    std::ofstream out(out_path);
+    ASSERT_TRUE(out) << "MONOCLE_CORNER_VIEWS_OUT: cannot write " << out_path;
+    out << "# corner_accuracy_test FreshSeedsOnDemand, seeds " << text
+        << (look == Look::kRealisticRaw ? ", raw" : ", JPEG")
+        << "\n# seed index error_pct bound_pct sigma_pct suspect short_edge\n";
+    for (const auto& view : pooled.views) testing::WriteCornerViewRecord(out, view);
+    std::cout << "each view written to " << out_path << "\n";
+  }
+  if (const char* before_path = std::getenv("MONOCLE_CORNER_VIEWS_BEFORE")) {
+    std::string error;
+    const auto before = testing::ReadCornerViewRecords(before_path, &error);
+    ASSERT_EQ(error, "") << "MONOCLE_CORNER_VIEWS_BEFORE";
+    std::cout << "against " << before_path << ": " << testing::ComparePaired(before, pooled.views);
+  }
 }
 
 }  // namespace
