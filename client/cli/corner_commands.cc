@@ -91,7 +91,7 @@ against the image's noise (noise_grey: as an edge measurement averaging pixels s
 JPEG frames and raw frames read alike), how far its points lie from the pose's line, and
 what part of the position's variance it gives (position_variance_share: the edge that
 limits the pose). A pose with an edge fainter than that noise, whose edges disagree, or
-that is weakly determined (1 sigma above 1.5 % of the distance; the reason names the edge
+that is weakly determined (1 sigma above 1.25 % of the distance; the reason names the edge
 giving most of it) is printed as SUSPECT with the reason; it is never dropped silently. So
 is a pose that rolls the camera more than 45 degrees about its axis (a floor corner read
 as the ceiling's): a camera mounted rolled further sets corner { max_swing: RADIANS } in its

@@ -460,7 +460,7 @@ std::string ImprecisionReason(const CornerPose& pose, const Eigen::Matrix<double
   return kImprecisionPrefix +
          Format("1 sigma %.1f %% of the distance", 100 * sigma_h / horizontal) +
          (qualifier.empty() ? "" : " " + qualifier) +
-         Format(" (more than %.1f)", 100 * quality.max_relative_sigma);
+         Format(" (more than %.3g)", 100 * quality.max_relative_sigma);
 }
 
 bool IsImprecisionReason(const std::string& reason) {

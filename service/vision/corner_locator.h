@@ -91,10 +91,12 @@ struct CornerQualityOptions {
   // (and at least min_edge_misfit_px): the edges do not agree on one pose.
   double max_edge_misfit_sigmas = 4.0;
   double min_edge_misfit_px = 0.5;
-  // Horizontal 1 sigma over the horizontal distance. Above 1.5 %, 5 % of the distance is
-  // within 3.3 sigma (the product's "no pose more than 5 % off unflagged"; at 2 % a pose 5.3 %
-  // off at 3.1 sigma went unflagged on a fresh realistic seed, 271828).
-  double max_relative_sigma = 0.015;
+  // Horizontal 1 sigma over the horizontal distance. Above 1.25 %, 5 % of the distance is
+  // within 4 sigma, the product's "no pose more than 5 % off unflagged" with room for the weak
+  // views' 1 sigma being a little optimistic. (At 2 % a pose 5.3 % off at 3.1 sigma went
+  // unflagged on a fresh realistic seed, 271828; at 1.5 %, one 5.1 % off at 3.9 sigma on fresh
+  // seed 1900006, view 49, its 1 sigma 1.31 %: tests/accuracy/corner_pose_notes.md.)
+  double max_relative_sigma = 0.0125;
   // Three surfaces meet at a corner, so near it the largest of the three edges' steps equals
   // the other two combined. Measured it comes out smaller (down to -60 % on realistic
   // renders: blur mixes the three surfaces at the junction); larger by more than this
