@@ -804,6 +804,32 @@ TEST(CornerAccuracyTest, AStrongerEdgeLeavingTheCornerMeansAWrongThirdEdge) {
   EXPECT_EQ(got->edges.detection_scale, 0.5);
 }
 
+// A weakly determined view of a realistic seed: under an older imprecision flag
+// (`old_max_relative_sigma`) its pose went unflagged though more than `min_error_then` off;
+// under today's it is flagged for its 1 sigma.
+void ExpectFlaggedSinceTheOldLimit(uint64_t seed, int index, double old_max_relative_sigma,
+                                   double min_error_then) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  const RealisticView view = RenderRealisticView(k, seed, index);
+  CornerQualityOptions old_limit;
+  old_limit.max_relative_sigma = old_max_relative_sigma;
+  const auto unflagged = LocateCorner(view.image, k, view.truth.z_m, {}, old_limit);
+  ASSERT_TRUE(unflagged.ok()) << unflagged.error();
+  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), min_error_then);
+  EXPECT_FALSE(unflagged->suspect) << unflagged->suspect_reason;
+  const auto got = LocateCorner(view.image, k, view.truth.z_m);
+  ASSERT_TRUE(got.ok()) << got.error();
+  const double sigma_h = std::sqrt(got->covariance(0, 0) + got->covariance(1, 1));
+  const double distance = std::hypot(got->pose.x_m, got->pose.y_m);
+  std::cout << "  " << 100 * RelativeHorizontalError(*got, view.truth) << " % off, 1 sigma "
+            << 100 * sigma_h / distance << " %: " << got->suspect_reason << "\n";
+  EXPECT_GT(sigma_h, CornerQualityOptions{}.max_relative_sigma * distance);
+  EXPECT_TRUE(got->suspect);
+  EXPECT_NE(got->suspect_reason.find("position uncertain"), std::string::npos)
+      << got->suspect_reason;
+  EXPECT_NE(got->suspect_reason.find("(more than 1.25)"), std::string::npos) << got->suspect_reason;
+}
+
 // View 20 of realistic seed 271828 (a fresh seed, run once): a camera 5.9 m from one wall and
 // 0.3 m from the other, tilt 65 degrees. The corner determines its distance weakly, and it
 // says so: a 1 sigma of 1.6-1.8 % of the distance. The pose was 5.3-5.6 % off, 3.1-3.4 sigma,
@@ -812,24 +838,7 @@ TEST(CornerAccuracyTest, AStrongerEdgeLeavingTheCornerMeansAWrongThirdEdge) {
 // above 1.5 % of the distance (5 % within 3.3 sigma) was then flagged, and since above 1.25 %
 // (CornerQualityOptions::max_relative_sigma, the next test); at the old limit, 2 %, it was not.
 TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
-  const CameraIntrinsics k = testing::PaperCamera();
-  const RealisticView view = RenderRealisticView(k, 271828, 20);
-  CornerQualityOptions old_limit;
-  old_limit.max_relative_sigma = 0.02;
-  const auto unflagged = LocateCorner(view.image, k, view.truth.z_m, {}, old_limit);
-  ASSERT_TRUE(unflagged.ok()) << unflagged.error();
-  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), 0.035);
-  EXPECT_FALSE(unflagged->suspect) << unflagged->suspect_reason;
-  const auto got = LocateCorner(view.image, k, view.truth.z_m);
-  ASSERT_TRUE(got.ok()) << got.error();
-  const double sigma_h = std::sqrt(got->covariance(0, 0) + got->covariance(1, 1));
-  const double distance = std::hypot(got->pose.x_m, got->pose.y_m);
-  std::cout << "  " << 100 * RelativeHorizontalError(*got, view.truth) << " % off, 1 sigma "
-            << 100 * sigma_h / distance << " %: " << got->suspect_reason << "\n";
-  EXPECT_GT(sigma_h, 0.015 * distance);
-  EXPECT_TRUE(got->suspect);
-  EXPECT_NE(got->suspect_reason.find("position uncertain"), std::string::npos)
-      << got->suspect_reason;
+  ExpectFlaggedSinceTheOldLimit(271828, 20, 0.02, 0.035);
 }
 
 // View 49 of realistic seed 1900006 (fresh, run once): a camera 0.51 m under the ceiling and
@@ -837,23 +846,7 @@ TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
 // flag's 1.5 %, and the pose 5.1 % off: 3.9 sigma, more than an honest Gaussian allows in the
 // few thousand views the fresh sets hold. Flagged from 1.25 % (5 % within 4 sigma).
 TEST(CornerAccuracyTest, AFarPoseWhose4SigmaReaches5PercentIsSuspect) {
-  const CameraIntrinsics k = testing::PaperCamera();
-  const RealisticView view = RenderRealisticView(k, 1900006, 49);
-  CornerQualityOptions old_limit;
-  old_limit.max_relative_sigma = 0.015;
-  const auto unflagged = LocateCorner(view.image, k, view.truth.z_m, {}, old_limit);
-  ASSERT_TRUE(unflagged.ok()) << unflagged.error();
-  EXPECT_GT(RelativeHorizontalError(*unflagged, view.truth), 0.05);
-  EXPECT_FALSE(unflagged->suspect) << unflagged->suspect_reason;
-  const auto got = LocateCorner(view.image, k, view.truth.z_m);
-  ASSERT_TRUE(got.ok()) << got.error();
-  const double sigma_h = std::sqrt(got->covariance(0, 0) + got->covariance(1, 1));
-  const double distance = std::hypot(got->pose.x_m, got->pose.y_m);
-  std::cout << "  " << 100 * RelativeHorizontalError(*got, view.truth) << " % off, 1 sigma "
-            << 100 * sigma_h / distance << " %: " << got->suspect_reason << "\n";
-  EXPECT_GT(sigma_h, 0.0125 * distance);
-  EXPECT_TRUE(got->suspect_only_imprecise);
-  EXPECT_NE(got->suspect_reason.find("(more than 1.25)"), std::string::npos) << got->suspect_reason;
+  ExpectFlaggedSinceTheOldLimit(1900006, 49, 0.015, 0.05);
 }
 
 // A corner near the image's border: the vertical edge runs 90 px to it, the ceiling's
