@@ -8,6 +8,8 @@
 #include <ostream>
 #include <random>
 #include <sstream>
+#include <string>
+#include <tuple>
 #include <utility>
 
 namespace monocle::testing {
