@@ -188,6 +188,10 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
     out.add_other_edge_towards_px(towards.x());
     out.add_other_edge_towards_px(towards.y());
   }
+  if (r->shading_shift.squaredNorm() > 0) {
+    out.add_shading_shift_m(r->shading_shift[0]);
+    out.add_shading_shift_m(r->shading_shift[1]);
+  }
   if (r->level_error_rad) {
     out.set_level_error_deg(*r->level_error_rad * 180 / std::numbers::pi);
     out.set_level_sigma_deg(r->level_sigma_rad * 180 / std::numbers::pi);

@@ -63,6 +63,14 @@ struct CornerLocation {
   // trust (see `suspect_reason`). Still a pose; never silently dropped or silently trusted.
   bool suspect = false;
   std::string suspect_reason;
+  // How far the shading beside the edges moved the pose, (x, y, pan, tilt, swing) in metres
+  // and radians: a one-sided shading slope across a faint edge moves all of its points the
+  // same way (edge_profile.h, ShadingPeakShiftPx), which their scatter does not show. `pose`
+  // is refined with each edge's points moved back by it, and its outer product is added to
+  // `covariance`: the correction's own noise where there was no bias, more where there was.
+  // Zero where it was not read: the pose's horizontal 1 sigma without it under
+  // CornerQualityOptions::shading_check_above_relative_sigma.
+  Eigen::Matrix<double, 5, 1> shading_shift = Eigen::Matrix<double, 5, 1>::Zero();
   // Suspect only because the view fixes the position weakly (its 1 sigma is over
   // CornerQualityOptions::max_relative_sigma): the edges agree with the pose and with each
   // other, so no other Y in the image would be the better answer.
@@ -97,6 +105,12 @@ struct CornerQualityOptions {
   // unflagged on a fresh realistic seed, 271828; at 1.5 %, one 5.1 % off at 3.9 sigma on fresh
   // seed 1900006, view 49, its 1 sigma 1.31 %: tests/accuracy/corner_pose_notes.md.)
   double max_relative_sigma = 0.0125;
+  // The shading beside the edges is read and its shift of the pose removed (and counted in
+  // the covariance, CornerLocation::shading_shift) where the horizontal 1 sigma without it is
+  // over this fraction of the distance. Below 0.4 % a 5 % error would be 12 sigma, and on the
+  // better determined views the correction's own noise is most of what it changes; reading it
+  // on every frame would cost a quarter of a realistic frame's time (README, "Corner pose").
+  double shading_check_above_relative_sigma = 0.004;
   // Three surfaces meet at a corner, so near it the largest of the three edges' steps equals
   // the other two combined. Measured it comes out smaller (down to -60 % on realistic
   // renders: blur mixes the three surfaces at the junction); larger by more than this

@@ -500,6 +500,53 @@ double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples) {
   return std::sqrt(std::max(0.0, lo * lo - kFilterVariance));
 }
 
+std::optional<SurfaceShading> MeasureShadingAcrossStretch(const cv::Mat& grey,
+                                                          const Eigen::Vector2d& start,
+                                                          const Eigen::Vector2d& direction,
+                                                          double length_px, double inner_px,
+                                                          double outer_px) {
+  if (grey.cols < 2 || grey.rows < 2 || !(outer_px > inner_px)) return std::nullopt;
+  const Eigen::Vector2d d = direction.normalized();
+  const Eigen::Vector2d n(-d.y(), d.x());
+  std::array<std::array<double, 2>, 2> line{};  // per side: level at the edge, slope
+  for (int side = 0; side < 2; ++side) {
+    const double sign = side == 0 ? -1.0 : 1.0;
+    double su = 0, sv = 0, suu = 0, suv = 0, count = 0;
+    for (double u = inner_px; u <= outer_px + 1e-9; u += 1) {
+      const double o = sign * u;
+      double sum = 0;
+      int samples = 0;
+      for (double t = 0; t <= length_px + 1e-9; t += 2, ++samples) {
+        const Eigen::Vector2d p = start + t * d + o * n;
+        if (!(p.x() >= 0 && p.y() >= 0 && p.x() < grey.cols - 1 && p.y() < grey.rows - 1))
+          return std::nullopt;
+        const float v = Bilinear(grey, p.x(), p.y());
+        if (v >= 250 || v <= 5) return std::nullopt;
+        sum += v;
+      }
+      const double mean = sum / samples;
+      su += o, sv += mean, suu += o * o, suv += o * mean, count += 1;
+    }
+    const double denominator = count * suu - su * su;
+    if (!(denominator > 0)) return std::nullopt;
+    line[side][1] = (count * suv - su * sv) / denominator;
+    line[side][0] = (sv - line[side][1] * su) / count;
+  }
+  return SurfaceShading{line[0][0], line[1][0], line[0][1], line[1][1]};
+}
+
+double ShadingPeakShiftPx(const SurfaceShading& shading, double blur_sigma_px,
+                          double derivative_sigma_px) {
+  const double step = shading.level_right - shading.level_left;
+  if (!(std::abs(step) >= 1e-3)) return 0;
+  // The default filter: central difference (variance 1/3) smoothed by [1 2 1] / 4 (1/2); a
+  // Gaussian one, its sigma^2. Bilinear sampling adds 1/6 on average (EdgeBlurSigmaPx).
+  const double filter_variance =
+      derivative_sigma_px > 0 ? derivative_sigma_px * derivative_sigma_px : 1.0 / 3 + 0.5;
+  const double s2 = blur_sigma_px * blur_sigma_px + filter_variance + 1.0 / 6;
+  return (shading.slope_right - shading.slope_left) * s2 / step;
+}
+
 double EdgeDerivativeSigmaPx(double blur_sigma_px) {
   // The filter matched to the blur (sigma = blur) is the best detector of the edge, but its
   // peak is located with only a third of the pixels' information; a wider one locates it

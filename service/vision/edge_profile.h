@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 namespace monocle {
@@ -69,6 +70,34 @@ double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples);
 // matched to the blur, which detects a blurred step in noise best but locates it less
 // precisely (README "Corner pose", "The derivative filter's width").
 double EdgeDerivativeSigmaPx(double blur_sigma_px);
+
+// The shading of the two surfaces beside a straight stretch of an edge, from the stretch's
+// mean profile across it: `direction` (unit) runs along the edge from `start` for `length_px`,
+// and each side, between `inner_px` and `outer_px` off the edge along the left normal
+// (-d.y, d.x) and against it, is fitted with a straight line (least squares over 1 px steps,
+// the profile averaged every 2 px along the stretch). Levels are extrapolated to the edge (grey
+// levels); slopes are grey levels per pixel along the normal. nullopt when a sample falls off
+// the image or on a clipped pixel (>= 250 or <= 5 grey), whose shading is not the surface's.
+struct SurfaceShading {
+  double level_left = 0, level_right = 0;  // left: against the normal, right: along it
+  double slope_left = 0, slope_right = 0;
+};
+std::optional<SurfaceShading> MeasureShadingAcrossStretch(const cv::Mat& grey,
+                                                          const Eigen::Vector2d& start,
+                                                          const Eigen::Vector2d& direction,
+                                                          double length_px, double inner_px,
+                                                          double outer_px);
+
+// How far the shading moves the derivative's peak along the normal (pixels): a step S blurred
+// by b, with a slope c_left on one side and c_right on the other, filtered by a derivative of a
+// Gaussian of sigma f, peaks where S u / s^2 = c_right - c_left, s^2 = b^2 + f^2 (+ the
+// sampler's own width): exactly, since the slopes' kink is blurred like the step. So
+//     shift = (c_right - c_left) s^2 / S,
+// the same along the whole stretch, which its points do not average away. `blur_sigma_px` as
+// EdgeBlurSigmaPx gives it, `derivative_sigma_px` as MeasureEdgeStretch takes it (0: the
+// default filter). 0 when the step is under 1e-3 grey levels.
+double ShadingPeakShiftPx(const SurfaceShading& shading, double blur_sigma_px,
+                          double derivative_sigma_px);
 
 // One short stretch of an edge (a chunk of neighbouring samples): keeps the points whose
 // step has the sign most of them have, none if fewer than 3 agree. Along one edge the

@@ -169,6 +169,42 @@ TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
   EXPECT_NE(r.err.find("--detect-every"), std::string::npos) << r.err;
 }
 
+// A far camera (5.9 m from one wall, 0.33 m from the other) fixes its position weakly: the
+// JSON says how far the shading beside the edges moved it, and the 1 sigma counts that shift.
+// A near one's pose is not looked at that way (its 1 sigma is under 0.4 % of the distance).
+TEST_F(CornerCliTest, AWeakViewSaysHowFarTheShadingMovedIt) {
+  const std::string far = dir_ / "far.png", near = dir_ / "near.png";
+  auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                                " --pose 5.917,0.333,2.681,1.8598,1.1388,0.3132 --realistic "
+                                "--seed 3 --out " +
+                                far);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                           " --pose 2,1.5,1.6,2.2143,0.9,0.1 --realistic --seed 3 --out " + near);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_, "corner locate " + far + " " + near + " --calibration " +
+                           dir_ / "cal.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto lines = Lines(r.out);
+  ASSERT_EQ(lines.size(), 2u) << r.out;
+  for (int i = 0; i < 2; ++i) {
+    proto::CornerOutput out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(lines[i], &out).ok()) << lines[i];
+    ASSERT_TRUE(out.has_x()) << lines[i];
+    const double distance = std::hypot(out.x(), out.y());
+    const double sigma = std::hypot(out.sigma().x(), out.sigma().y());
+    if (i == 0) {
+      EXPECT_GT(sigma, 0.004 * distance) << lines[i];
+      ASSERT_EQ(out.shading_shift_m_size(), 2) << lines[i];
+      EXPECT_LE(std::abs(out.shading_shift_m(0)), out.sigma().x()) << lines[i];
+      EXPECT_LE(std::abs(out.shading_shift_m(1)), out.sigma().y()) << lines[i];
+    } else {
+      EXPECT_LT(sigma, 0.004 * distance) << lines[i];
+      EXPECT_EQ(out.shading_shift_m_size(), 0) << lines[i];
+    }
+  }
+}
+
 // A camera mounted rolled 52 degrees about its axis: beyond the default 45 every pose is
 // flagged (a floor corner read as the ceiling's rolls the camera over); corner { max_swing }
 // in its calibration file says how far this camera's mount may roll.
