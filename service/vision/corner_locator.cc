@@ -181,10 +181,6 @@ void UndistortCoarsely(const CameraIntrinsics& k, const std::vector<Eigen::Vecto
   }
 }
 
-// One edge: a first fit of the detector's points, then a second pass along the fitted line
-// as the lens bends it, with a narrower window (a straight first pass drifts off a distorted
-// edge far from the corner), and the final robust fit. Updates the edge's points (and says
-// whether the second pass replaced them).
 // One 32 px stretch of an edge's second pass: where it was sampled (pixels, `along` unit) and
 // which of the edge's points it gave ([first, end) of CornerEdges::points_px[m]).
 struct EdgeStretch {
@@ -193,6 +189,10 @@ struct EdgeStretch {
   size_t first = 0, end = 0;
 };
 
+// One edge: a first fit of the detector's points, then a second pass along the fitted line
+// as the lens bends it, with a narrower window (a straight first pass drifts off a distorted
+// edge far from the corner), and the final robust fit. Updates the edge's points (and says
+// whether the second pass replaced them, and where each of its stretches lies).
 std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, int m,
                                double min_step, CornerEdges* edges, bool* replaced,
                                std::vector<EdgeStretch>* stretches) {
@@ -400,8 +400,8 @@ Eigen::Matrix<double, 5, 1> PoseShiftFromShading(
     if (stretches[m].empty()) continue;
     const double blur = edges.blur_sigma_px[m];
     const double filter = EdgeDerivativeSigmaPx(blur);
-    // The filtered peak's width (ShadingPeakShiftPx): the side rows start 3 of it out, where
-    // the step has risen fully, and take 14 px of each surface.
+    // The filtered peak's width (ShadingPeakShiftPx): the side rows start 3 of it (and 2 px)
+    // out, where the step has risen fully, and take kShadingRowsPx of each surface.
     const double width =
         std::sqrt(blur * blur + (filter > 0 ? filter * filter : 5.0 / 6) + 1.0 / 6);
     const double inner = 3 * width + 2, outer = inner + kShadingRowsPx;

@@ -109,7 +109,7 @@ struct CornerQualityOptions {
   // the covariance, CornerLocation::shading_shift) where the horizontal 1 sigma without it is
   // over this fraction of the distance. Below 0.4 % a 5 % error would be 12 sigma, and on the
   // better determined views the correction's own noise is most of what it changes; reading it
-  // on every frame would cost a quarter of a realistic frame's time (README, "Corner pose").
+  // on every frame would cost a third of a realistic frame's time (README, "Corner pose").
   double shading_check_above_relative_sigma = 0.004;
   // Three surfaces meet at a corner, so near it the largest of the three edges' steps equals
   // the other two combined. Measured it comes out smaller (down to -60 % on realistic

@@ -13,6 +13,19 @@
 namespace monocle {
 namespace {
 
+// `image` (float grey levels) with Gaussian noise of `noise` added, as an 8-bit camera gives it.
+cv::Mat WithNoiseAs8Bit(cv::Mat image, double noise, uint64_t seed) {
+  if (noise > 0) {
+    cv::Mat n(image.size(), CV_32F);
+    cv::RNG rng(seed);
+    rng.fill(n, cv::RNG::NORMAL, 0.0, noise);
+    image += n;
+  }
+  cv::Mat out;
+  image.convertTo(out, CV_8U);
+  return out;
+}
+
 // A straight step edge of `step` grey levels through (edge_x, 0) at angle `angle` from the
 // vertical, blurred by `blur` px, with Gaussian noise: each pixel integrates the step
 // analytically (erf), so the edge sits at its true subpixel place.
@@ -28,15 +41,7 @@ cv::Mat StepImage(double edge_x, double angle, double step, double blur, double 
           dark_grey + step * 0.5 * (1 + std::erf(distance / (std::sqrt(2.0) * sigma))));
     }
   }
-  if (noise > 0) {
-    cv::Mat n(image.size(), CV_32F);
-    cv::RNG rng(seed);
-    rng.fill(n, cv::RNG::NORMAL, 0.0, noise);
-    image += n;
-  }
-  cv::Mat out;
-  image.convertTo(out, CV_8U);
-  return out;
+  return WithNoiseAs8Bit(image, noise, seed);
 }
 
 TEST(EdgeProfileTest, EstimatesTheNoiseOfAFlatImage) {
@@ -286,13 +291,7 @@ cv::Mat ShadedStepImage(double edge_x, double step, double blur, double slope_le
         static_cast<float>(120 + step * cdf + slope_right * ramp_right + slope_left * ramp_left);
     for (int row = 0; row < image.rows; ++row) image.at<float>(row, u) = v;
   }
-  cv::Mat n(image.size(), CV_32F);
-  cv::RNG rng(seed);
-  rng.fill(n, cv::RNG::NORMAL, 0.0, noise);
-  image += n;
-  cv::Mat out;
-  image.convertTo(out, CV_8U);
-  return out;
+  return WithNoiseAs8Bit(image, noise, seed);
 }
 
 // A faint edge (6 grey levels) with one surface brightening away from it and the other flat,
