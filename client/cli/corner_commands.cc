@@ -46,8 +46,8 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
   --ceiling-distance Z     camera optical centre to ceiling, metres (overrides the file)
   --json                   one JSON object per line: image x y z pan tilt swing
                            quaternion corner_px rms_px sigma lines (with each edge's
-                           support) source suspect [suspect_reason] noise_grey, or image
-                           error
+                           support) source suspect [suspect_reason] noise_grey
+                           [shading_shift_m], or image error
   --overlay DIR            write DIR/<image>.overlay.png: the edges measured (thick), the
                            edges the pose predicts (thin white, to the border), each edge's
                            support (length, coverage, contrast/noise, misfit, its part
@@ -96,6 +96,9 @@ giving most of it) is printed as SUSPECT with the reason; it is never dropped si
 is a pose that rolls the camera more than 45 degrees about its axis (a floor corner read
 as the ceiling's): a camera mounted rolled further sets corner { max_swing: RADIANS } in its
 calibration file.
+Where the 1 sigma is over 0.4 % of the distance, the shading beside the edges is read and
+the shift it causes (shading_shift_m, x and y in metres) is removed and counted in the
+1 sigma: a surface brightening away from a faint edge moves all its points one way.
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --camera ID              the camera's poses as monocled publishes them (same JSON as
