@@ -506,7 +506,9 @@ TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
 // it; the population sits on it rather than under it: over 4032 views of 56 fresh seeds
 // (FreshSeedsOnDemand) p95 is 0.98 % (bootstrap 95 % interval 0.91-1.11 %), over 1600001-1600016
 // 1.03 %, per set of 72 0.37-4.9 % (README, "Corner pose"). Since the shading beside the edges
-// is read on weakly determined views (2026-11-28): 72 suspect, median 0.083 %, p95 0.92 %.
+// is read on weakly determined views (2026-11-28): 72 suspect, median 0.083 %, p95 0.92 %;
+// since a Y flagged for more than imprecision gives way to the next (2026-11-28, later): 71
+// suspect, p95 0.91 % (view 63 of 1400006, a floor corner 51 % off, is now the ceiling's).
 TEST(CornerAccuracyTest, RealisticRoomsOverSixteenSeeds) {
   Stats s;
   for (uint64_t seed = 1400001; seed <= 1400016; ++seed)
@@ -729,7 +731,8 @@ TEST(CornerAccuracyTest, ACornerInGlareIsLocatedFromItsEdgesBeyondTheGlare) {
 // its "Y" edge a faint line in the textured strip along the walls (step 3.4 grey levels near
 // the corner, the X edge's 12), and the pose was 17 % off, not flagged. The three steps do
 // not add up, which a corner's must (CornerQualityOptions::max_step_excess): the pose is
-// suspect, and the half-resolution search decides, as it does for every suspect pose. Its
+// suspect, and the next Y decides (until 2026-11-28 the half-resolution search did; now the
+// quarter resolution's next Y is the corner's own). Its
 // faint edge is also fainter than the noise an edge measurement sees (a median step of 2.3
 // grey levels at noise 2.5; CornerQualityOptions::min_contrast_to_noise), which flags it on
 // its own as well.
@@ -755,9 +758,13 @@ TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
   ASSERT_TRUE(wrong.ok()) << wrong.error();
   EXPECT_GT(RelativeHorizontalError(*wrong, truth), 0.05);
   EXPECT_FALSE(wrong->suspect) << wrong->suspect_reason;
-  // With any one of them, or all (the default): the half-resolution search's Y, within 5 %
-  // (or at least flagged). The edge that leaves the corner beside the Y (corner_rays.h)
-  // came later and catches this Y too.
+  // With any one of them, or all (the default): the corner's own Y, within 5 % (or at least
+  // flagged). The edge that leaves the corner beside the Y (corner_rays.h) came later and
+  // catches this Y too.
+  const Eigen::Vector3d corner_camera = CornerToCamera(truth, Eigen::Vector3d::Zero());
+  const Eigen::Vector2d corner_px =
+      NormalizedToPixel(k, corner_camera.head<2>() / corner_camera.z());
+  EXPECT_GT((wrong->corner_px - corner_px).norm(), 5) << "the wrong Y lies beside the corner";
   CornerQualityOptions steps_only = unchecked, contrast_only = unchecked, rays_only = unchecked;
   steps_only.max_step_excess = CornerQualityOptions{}.max_step_excess;
   contrast_only.min_contrast_to_noise = CornerQualityOptions{}.min_contrast_to_noise;
@@ -772,7 +779,7 @@ TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
               << " % off; checking " << name << " " << 100 * RelativeHorizontalError(*got, truth)
               << " % off" << (got->suspect ? ", suspect: " : "") << got->suspect_reason << "\n";
     EXPECT_TRUE(RelativeHorizontalError(*got, truth) < 0.05 || got->suspect) << name;
-    EXPECT_EQ(got->edges.detection_scale, 0.5) << name;
+    EXPECT_LT((got->corner_px - corner_px).norm(), 3) << name;
   }
 }
 
@@ -780,8 +787,11 @@ TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
 // (tilt 84 degrees) at a corner 7.6 m away, and the best supported Y is the floor corner
 // 1.2 m below it. A floor corner fits a ceiling-corner pose exactly, one rolled far over:
 // 68 % off, with a 1 sigma of 0.2 %. No upright robot camera is rolled that far
-// (CornerQualityOptions::max_swing_rad), so the pose is flagged.
-TEST(CornerAccuracyTest, AFloorCornerTakenForTheCeilingsIsSuspect) {
+// (CornerQualityOptions::max_swing_rad), so that pose is flagged, and the locator goes on to
+// the next Y the detector found. The ceiling's own Y, above it, gives a pose nothing
+// doubts, and that is the answer. (Until 2026-11-28 the flagged floor corner was the answer:
+// 25 of 8571 fresh realistic views were 50-92 % off that way; four of them below.)
+TEST(CornerAccuracyTest, AFloorCornerTakenFirstGivesWayToTheCeilings) {
   const CameraIntrinsics k = testing::PaperCamera();
   const RealisticView view = RenderRealisticView(k, 557123, 16);
   const cv::Mat& image = view.image;
@@ -801,13 +811,26 @@ TEST(CornerAccuracyTest, AFloorCornerTakenForTheCeilingsIsSuspect) {
   EXPECT_FALSE(wrong->suspect);
   EXPECT_LT((wrong->corner_px - floor_px).norm(), 10)
       << "the floor corner is at " << floor_px.transpose();
-  const auto got = LocateCorner(image, k, truth.z_m);
-  ASSERT_TRUE(got.ok()) << got.error();
-  std::cout << "  " << 100 * RelativeHorizontalError(*got, truth) << " % off"
-            << (got->suspect ? ", suspect: " : "") << got->suspect_reason << "\n";
-  EXPECT_TRUE(RelativeHorizontalError(*got, truth) < relative_error_limit || got->suspect);
-  // Flagged for its roll, not by chance for something else.
-  EXPECT_NE(got->suspect_reason.find("rolled"), std::string::npos) << got->suspect_reason;
+  // The same Y, located alone, is flagged for its roll.
+  const auto floor_y = LocateCornerFromEdges(image, k, truth.z_m, wrong->edges, {}, {});
+  ASSERT_TRUE(floor_y.ok()) << floor_y.error();
+  EXPECT_TRUE(floor_y->suspect);
+  EXPECT_NE(floor_y->suspect_reason.find("rolled"), std::string::npos) << floor_y->suspect_reason;
+  for (const auto& [seed, index] : {std::pair<uint64_t, int>{557123, 16},
+                                    {2500007, 5},
+                                    {1300005, 21},
+                                    {1800009, 68},
+                                    {2600002, 43}}) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " view " + std::to_string(index));
+    const RealisticView v = RenderRealisticView(k, seed, index);
+    const auto got = LocateCorner(v.image, k, v.truth.z_m);
+    ASSERT_TRUE(got.ok()) << got.error();
+    std::cout << "  view " << index << " of seed " << seed << ": "
+              << 100 * RelativeHorizontalError(*got, v.truth) << " % off"
+              << (got->suspect ? ", suspect: " : "") << got->suspect_reason << "\n";
+    EXPECT_LT(RelativeHorizontalError(*got, v.truth), 0.01);
+    EXPECT_FALSE(got->suspect) << got->suspect_reason;
+  }
 }
 
 // View 0 of realistic seed 440002 (a fresh seed, run once; a development seed since): the
