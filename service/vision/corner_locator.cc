@@ -740,49 +740,35 @@ Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics&
   // gives way to the next. So does one whose edges or mount say it is not the ceiling's Y
   // (suspect for more than imprecision: the camera would be rolled past max_swing, the
   // edges' steps do not add up, a stronger edge leaves the corner), to the next Y whose pose
-  // raises no such doubt; if none does, the first stands, flagged. Far views that look almost
-  // level see the floor's corner below the ceiling's, and the floor's was taken first: 25 of
-  // the 8571 fresh realistic views (1200001-2600016) were 50-92 % off, each flagged as a
-  // camera rolled 66-93 degrees (tests/accuracy/corner_pose_notes.md, "Wrong Ys").
-  auto locate = [&](const CornerDetectorOptions& detector) -> Result<CornerLocation> {
-    std::optional<CornerLocation> located, doubted;
-    std::optional<Error> pose_error;
-    const auto detect_error = ForEachCornerCandidate(grey, detector, &k, [&](CornerEdges edges) {
-      auto r = LocateCornerFromEdges(grey, k, zc, std::move(edges), detector, quality);
-      if (r) {
-        if (r->suspect && !r->suspect_only_imprecise) {
-          if (!doubted) doubted = std::move(*r);
-          return false;
-        }
-        located = std::move(*r);
-        return true;
-      }
+  // raises no such doubt, at a quarter of the resolution and then at half. Far views that
+  // look almost level see the floor's corner below the ceiling's, and the floor's was taken
+  // first: 25 of the 8571 fresh realistic views (1200001-2600016) were 50-92 % off, each
+  // flagged as a camera rolled 66-93 degrees (tests/accuracy/corner_pose_notes.md, "Wrong
+  // Ys"). Where every Y is doubted, the first the finer resolution found stands, flagged: the
+  // coarse image may favour a wrong Y (clutter beside a faint edge), and a map would take
+  // the pose as its next prior. A pose flagged only as imprecise is taken: its edges agree
+  // with it and with each other, and they are measured at full resolution whichever
+  // resolution found them.
+  std::optional<CornerLocation> located, doubted;
+  std::optional<Error> pose_error;
+  const auto detect_error = ForEachCornerCandidate(grey, options, &k, [&](CornerEdges edges) {
+    auto r = LocateCornerFromEdges(grey, k, zc, std::move(edges), options, quality);
+    if (!r) {
       if (!pose_error) pose_error = r.error();
       return false;
-    });
-    if (located) return std::move(*located);
-    if (doubted) return std::move(*doubted);
-    if (pose_error) return *pose_error;
-    return *detect_error;
-  };
-  auto first = locate(options);
-  // The quarter-resolution search decides only with a pose it does not flag: a suspect one
-  // may be a wrong Y the coarse image favoured (clutter beside a faint edge, a floor
-  // corner), and a map would take it as its next prior. Then the half-resolution search
-  // decides with any pose it finds; where it finds none, the quarter's pose stands, flagged.
-  // A pose flagged only as imprecise is kept: its edges agree with it, and they are measured
-  // at full resolution whichever resolution found them, so the half search found the same
-  // Y again, and a pose within its 1 sigma, at the cost of a second detection (4 of the
-  // benchmark's 24 realistic frames; on the accuracy sets only such flagged poses moved).
-  if (first && first->suspect && !first->suspect_only_imprecise &&
-      first->edges.detection_scale < 0.5 && options.quarter_resolution_first) {
-    CornerDetectorOptions half = options;
-    half.quarter_resolution_first = false;
-    auto second = locate(half);
-    if (second) return second;
-    return first;
-  }
-  return first;
+    }
+    if (r->suspect && !r->suspect_only_imprecise) {
+      if (!doubted || r->edges.detection_scale > doubted->edges.detection_scale)
+        doubted = std::move(*r);
+      return false;
+    }
+    located = std::move(*r);
+    return true;
+  });
+  if (located) return std::move(*located);
+  if (doubted) return std::move(*doubted);
+  if (pose_error) return *pose_error;
+  return *detect_error;
 }
 
 }  // namespace monocle
