@@ -95,7 +95,9 @@ that is weakly determined (1 sigma above 1.25 % of the distance; the reason name
 giving most of it) is printed as SUSPECT with the reason; it is never dropped silently. So
 is a pose that rolls the camera more than 45 degrees about its axis (a floor corner read
 as the ceiling's): a camera mounted rolled further sets corner { max_swing: RADIANS } in its
-calibration file.
+calibration file. A Y flagged for its edges or its roll gives way to the next Y in the
+image whose pose is flagged for nothing but its 1 sigma; only where there is none is it
+printed, flagged.
 Where the 1 sigma is over 0.4 % of the distance, the shading beside the edges is read and
 the shift it causes (shading_shift_m, x and y in metres) is removed and counted in the
 1 sigma: a surface brightening away from a faint edge moves all its points one way.
