@@ -47,7 +47,7 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
   --json                   one JSON object per line: image x y z pan tilt swing
                            quaternion corner_px rms_px sigma lines (with each edge's
                            support) source suspect [suspect_reason] noise_grey
-                           [shading_shift_m], or image error
+                           [shading_shift_m] [measured_again], or image error
   --overlay DIR            write DIR/<image>.overlay.png: the edges measured (thick), the
                            edges the pose predicts (thin white, to the border), each edge's
                            support (length, coverage, contrast/noise, misfit, its part
@@ -101,6 +101,9 @@ printed, flagged.
 Where the 1 sigma is over 0.4 % of the distance, the shading beside the edges is read and
 the shift it causes (shading_shift_m, x and y in metres) is removed and counted in the
 1 sigma: a surface brightening away from a faint edge moves all its points one way.
+Over 0.6 %, the edges are first measured again along the fitted lines with a wider filter
+(1.9x the edge's blur, not 1.6x), which locates a faint edge more precisely; its larger
+shading bias is what the correction then removes (measured_again in the JSON).
 
 Live, from the running service (monocled) over DDS, instead of IMAGE files:
   --camera ID              the camera's poses as monocled publishes them (same JSON as

@@ -188,6 +188,7 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
     out.add_other_edge_towards_px(towards.x());
     out.add_other_edge_towards_px(towards.y());
   }
+  if (r->edges_measured_again) out.set_measured_again(true);
   if (r->shading_shift.squaredNorm() > 0) {
     out.add_shading_shift_m(r->shading_shift[0]);
     out.add_shading_shift_m(r->shading_shift[1]);

@@ -193,8 +193,11 @@ struct EdgeStretch {
 // as the lens bends it, with a narrower window (a straight first pass drifts off a distorted
 // edge far from the corner), and the final robust fit. Updates the edge's points (and says
 // whether the second pass replaced them, and where each of its stretches lies).
+// `measured`: the edge's line as measured before (its points are `edges`'), which the second
+// pass then follows instead of a first fit of the points.
 std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, int m,
-                               double min_step, CornerEdges* edges, bool* replaced,
+                               double min_step, bool wide_filter, const LineFit* measured,
+                               CornerEdges* edges, bool* replaced,
                                std::vector<EdgeStretch>* stretches) {
   *replaced = false;
   stretches->clear();
@@ -202,8 +205,13 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   const double floor_sigma = 0.05 / focal;  // no edge is measured better than 0.05 px
   std::vector<Eigen::Vector2d> points;
   std::vector<double> steps;
-  UndistortCoarsely(k, edges->points_px[m], edges->step_grey[m], &points, &steps);
-  auto first = RobustLineFit(points, steps, floor_sigma);
+  std::optional<LineFit> first;
+  if (measured != nullptr) {
+    first = *measured;
+  } else {
+    UndistortCoarsely(k, edges->points_px[m], edges->step_grey[m], &points, &steps);
+    first = RobustLineFit(points, steps, floor_sigma);
+  }
   if (!first) return std::nullopt;
   const Eigen::Vector2d corner_n = PixelToNormalized(k, edges->corner_px).value_or(first->centroid);
   Eigen::Vector2d dir = first->direction;
@@ -220,7 +228,9 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   }
   // Either sign, decided per 32 px stretch: the contrast may fade and turn along an edge.
   // A blurred edge is measured with a derivative of a Gaussian wider than its blur.
-  const double derivative_sigma_px = EdgeDerivativeSigmaPx(edges->blur_sigma_px[m]);
+  const double derivative_sigma_px = wide_filter
+                                         ? WeakViewEdgeDerivativeSigmaPx(edges->blur_sigma_px[m])
+                                         : EdgeDerivativeSigmaPx(edges->blur_sigma_px[m]);
   std::vector<EdgePointSample> second;
   for (size_t begin = 0; begin < positions.size(); begin += 16) {
     const size_t end = std::min(positions.size(), begin + 16);
@@ -392,14 +402,16 @@ Eigen::Matrix<double, 5, 1> PoseShiftFromShading(
     const cv::Mat& grey, const CameraIntrinsics& k, const CornerEdges& edges,
     const std::array<std::vector<EdgeStretch>, 3>& stretches,
     std::array<LineObservation, 3> observations, const CornerPose& pose,
-    const std::array<int, 3>& axis_of_line, double point_sigma_px) {
+    const std::array<int, 3>& axis_of_line, double point_sigma_px,
+    const std::array<bool, 3>& wide_filter) {
   const double focal = 0.5 * (k.fx + k.fy);
   Eigen::Matrix<double, 5, 1> change = Eigen::Matrix<double, 5, 1>::Zero();
   bool any = false;
   for (int m = 0; m < 3; ++m) {
     if (stretches[m].empty()) continue;
     const double blur = edges.blur_sigma_px[m];
-    const double filter = EdgeDerivativeSigmaPx(blur);
+    const double filter =
+        wide_filter[m] ? WeakViewEdgeDerivativeSigmaPx(blur) : EdgeDerivativeSigmaPx(blur);
     // The filtered peak's width (ShadingPeakShiftPx): the side rows start 3 of it (and 2 px)
     // out, where the step has risen fully, and take kShadingRowsPx of each surface.
     const double width =
@@ -588,6 +600,65 @@ void AssessSupport(const cv::Mat& grey, const CameraIntrinsics& k,
     out->suspect_reason += (out->suspect_reason.empty() ? "" : "; ") + r;
 }
 
+// One Y's three edges measured at full resolution and seen as lines (FitEdge, ObserveLine),
+// with what the closed form and the pose fit need.
+struct MeasuredLines {
+  std::array<LineFit, 3> fits;
+  std::array<std::vector<EdgeStretch>, 3> stretches;
+  std::array<bool, 3> replaced{};  // the second pass's points replaced the detector's
+  std::array<double, 3> spacing_px{};
+  Eigen::Vector2d corner = Eigen::Vector2d::Zero();  // normalized
+  std::array<ObservedRay, 3> rays;
+  std::array<LineObservation, 3> observations;
+  double point_sigma_px = 0;
+};
+
+// `again`: the lines measured before, of which the edges not in `measure` are kept (their
+// points in `edges` are then those lines'); nullptr measures all three.
+Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& k, double min_step,
+                                   const std::array<bool, 3>& wide_filter,
+                                   const MeasuredLines* again, const std::array<bool, 3>& measure,
+                                   CornerEdges* edges) {
+  const double focal = 0.5 * (k.fx + k.fy);
+  MeasuredLines out;
+  for (int m = 0; m < 3; ++m) {
+    if (again != nullptr && !measure[m]) {
+      out.fits[m] = again->fits[m];
+      out.stretches[m] = again->stretches[m];
+      out.replaced[m] = again->replaced[m];
+      continue;
+    }
+    auto fit =
+        FitEdge(grey, k, m, min_step, wide_filter[m], again != nullptr ? &again->fits[m] : nullptr,
+                edges, &out.replaced[m], &out.stretches[m]);
+    if (!fit) return MakeError(ErrorCode::kNotFound, "a corner edge could not be fitted");
+    if (again != nullptr && !out.replaced[m])
+      return MakeError(ErrorCode::kNotFound, "an edge measured again gave too few points");
+    out.fits[m] = std::move(*fit);
+  }
+  const auto corner = ConstrainedCorner(out.fits);
+  if (!corner) return MakeError(ErrorCode::kDegenerate, "the corner edges are parallel");
+  out.corner = *corner;
+  // The second pass (2 px apart) replaces an edge's first points when it finds enough.
+  for (int m = 0; m < 3; ++m) out.spacing_px[m] = out.replaced[m] ? 2.0 : edges->sample_spacing_px;
+  double point_sigma2 = 0;
+  int total_points = 0;
+  for (int m = 0; m < 3; ++m) {
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const auto& p : out.fits[m].inliers) scatter += (p - *corner) * (p - *corner).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+    Eigen::Vector2d d = eig.eigenvectors().col(1);
+    if (d.dot(out.fits[m].centroid - *corner) < 0) d = -d;
+    out.rays[m] = {*corner, d};
+    out.observations[m] = ObserveLine(out.fits[m], *corner, out.spacing_px[m], focal);
+    point_sigma2 += std::pow(out.fits[m].normal_rms * focal, 2) * out.observations[m].num_points;
+    total_points += out.observations[m].num_points;
+  }
+  out.point_sigma_px =
+      std::max(std::sqrt(point_sigma2 / std::max(total_points, 1)), kMinPointSigmaPx);
+  return out;
+}
+
 constexpr char kImprecisionPrefix[] = "position uncertain: ";
 
 }  // namespace
@@ -627,36 +698,9 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
                                              const CornerPose* previous) {
   const double focal = 0.5 * (k.fx + k.fy);
   const double min_step = MinStepGrey(options, edges.noise_sigma_grey);
-  std::array<LineFit, 3> fits;
-  std::array<bool, 3> replaced{};
-  std::array<std::vector<EdgeStretch>, 3> stretches;
-  for (int m = 0; m < 3; ++m) {
-    auto fit = FitEdge(grey, k, m, min_step, &edges, &replaced[m], &stretches[m]);
-    if (!fit) return MakeError(ErrorCode::kNotFound, "a corner edge could not be fitted");
-    fits[m] = std::move(*fit);
-  }
-  const auto corner = ConstrainedCorner(fits);
-  if (!corner) return MakeError(ErrorCode::kDegenerate, "the corner edges are parallel");
-
-  // The second pass (2 px apart) replaces an edge's first points when it finds enough.
-  std::array<double, 3> spacing_px;
-  for (int m = 0; m < 3; ++m) spacing_px[m] = replaced[m] ? 2.0 : edges.sample_spacing_px;
-  std::array<ObservedRay, 3> rays;
-  std::array<LineObservation, 3> observations;
-  double point_sigma2 = 0;
-  int total_points = 0;
-  for (int m = 0; m < 3; ++m) {
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (const auto& p : fits[m].inliers) scatter += (p - *corner) * (p - *corner).transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
-    Eigen::Vector2d d = eig.eigenvectors().col(1);
-    if (d.dot(fits[m].centroid - *corner) < 0) d = -d;
-    rays[m] = {*corner, d};
-    observations[m] = ObserveLine(fits[m], *corner, spacing_px[m], focal);
-    point_sigma2 += std::pow(fits[m].normal_rms * focal, 2) * observations[m].num_points;
-    total_points += observations[m].num_points;
-  }
-  const double point_sigma_px = std::sqrt(point_sigma2 / std::max(total_points, 1));
+  std::array<bool, 3> wide_filter{};
+  auto lines = MeasureLines(grey, k, min_step, wide_filter, nullptr, {}, &edges);
+  if (!lines) return lines.error();
 
   CornerPose initial;
   std::array<int, 3> axis_of_line{0, 1, 2};
@@ -664,19 +708,51 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     initial = *previous;
     initial.z_m = zc;
   } else {
-    const auto closed = SolveCornerClosedForm(rays, zc);
+    const auto closed = SolveCornerClosedForm(lines->rays, zc);
     if (!closed) return closed.error();
     initial = closed->pose;
     axis_of_line = closed->axis_of_ray;
   }
-  const auto refined = RefineCornerPose(initial, observations, axis_of_line, focal,
-                                        std::max(point_sigma_px, kMinPointSigmaPx), kLineBiasPx);
+  auto refined = RefineCornerPose(initial, lines->observations, axis_of_line, focal,
+                                  lines->point_sigma_px, kLineBiasPx);
   if (!refined) return refined.error();
+  // A weakly determined view: its blurred edges are measured again along the refined lines,
+  // with the wider filter whose larger shading bias the correction below removes
+  // (CornerQualityOptions::remeasure_above_relative_sigma; never where the shading is not
+  // read). Not a Y rolled past max_swing: that one gives way to the next Y anyway
+  // (LocateCorner).
+  const double first_variance = refined->covariance(0, 0) + refined->covariance(1, 1);
+  const double first_horizontal_m = std::hypot(refined->pose.x_m, refined->pose.y_m);
+  if (std::sqrt(first_variance) > quality.remeasure_above_relative_sigma * first_horizontal_m &&
+      std::sqrt(first_variance) > quality.shading_check_above_relative_sigma * first_horizontal_m &&
+      std::abs(refined->pose.swing_rad) <= quality.max_swing_rad) {
+    std::array<bool, 3> measure{};
+    for (int m = 0; m < 3; ++m)
+      measure[m] = WeakViewEdgeDerivativeSigmaPx(edges.blur_sigma_px[m]) > 0;
+    if (measure[0] || measure[1] || measure[2]) {
+      CornerEdges again = edges;
+      auto wide = MeasureLines(grey, k, min_step, measure, &*lines, measure, &again);
+      auto wide_refined = wide ? RefineCornerPose(refined->pose, wide->observations, axis_of_line,
+                                                  focal, wide->point_sigma_px, kLineBiasPx)
+                               : Result<CornerRefinement>(wide.error());
+      if (wide_refined) {
+        lines = std::move(wide);
+        refined = std::move(wide_refined);
+        edges = std::move(again);
+        wide_filter = measure;
+      }
+    }
+  }
+  const auto& fits = lines->fits;
+  const auto& spacing_px = lines->spacing_px;
+  const Eigen::Vector2d corner = lines->corner;
+  const double point_sigma_px = lines->point_sigma_px;
 
   CornerLocation out;
   out.pose = refined->pose;
   out.covariance = refined->covariance;
   out.noise_sigma_grey = edges.measurement_noise_grey;
+  out.edges_measured_again = wide_filter[0] || wide_filter[1] || wide_filter[2];
   // A one-sided shading slope beside a faint edge moves its every point the same way, which
   // neither the points' scatter nor the lines' agreement shows: a pose 5.25 % off at a
   // reported 1 sigma of 0.88 % (fresh seed 2100011, view 34; tests/accuracy/corner_pose_notes.md).
@@ -684,12 +760,14 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   // removed, and counted in the covariance too: each stretch's slopes are read from noisy
   // pixels, so where there was no bias the shift is the correction's own noise, and where
   // there was one it is larger (README, "Corner pose", "The shading beside a faint edge").
+  // (Edges measured with the wider filter always: their bias is larger.)
   const double horizontal_m = std::hypot(out.pose.x_m, out.pose.y_m);
-  if (std::sqrt(out.covariance(0, 0) + out.covariance(1, 1)) >
-      quality.shading_check_above_relative_sigma * horizontal_m) {
+  if (wide_filter[0] || wide_filter[1] || wide_filter[2] ||
+      std::sqrt(out.covariance(0, 0) + out.covariance(1, 1)) >
+          quality.shading_check_above_relative_sigma * horizontal_m) {
     const Eigen::Matrix<double, 5, 1> shading_shift =
-        PoseShiftFromShading(grey, k, edges, stretches, observations, out.pose, axis_of_line,
-                             std::max(point_sigma_px, kMinPointSigmaPx));
+        PoseShiftFromShading(grey, k, edges, lines->stretches, lines->observations, out.pose,
+                             axis_of_line, point_sigma_px, wide_filter);
     out.pose = Canonical(MovedBy(out.pose, shading_shift));
     out.covariance += shading_shift * shading_shift.transpose();
     out.shading_shift = shading_shift;
@@ -706,7 +784,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   for (int m = 0; m < 3; ++m)
     out.support[axis_of_line[m]].position_variance_share =
         horizontal_variance > 0 ? parts[m] / horizontal_variance : 0;
-  AssessSupport(grey, k, fits, axis_of_line, *corner, quality, spacing_px, &out);
+  AssessSupport(grey, k, fits, axis_of_line, corner, quality, spacing_px, &out);
   // The tracker relies on edges listed as X, Y, Z: reorder what the detector found.
   CornerEdges ordered = edges;
   for (int m = 0; m < 3; ++m) {

@@ -71,6 +71,13 @@ double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples);
 // precisely (README "Corner pose", "The derivative filter's width").
 double EdgeDerivativeSigmaPx(double blur_sigma_px);
 
+// The filter for a weakly determined view, whose edges are measured again and the shading
+// across them read and its shift removed (CornerQualityOptions::
+// shading_check_above_relative_sigma): 1.9x the blur, nearer the width at which a derivative
+// of a Gaussian locates a blurred step best; the correction removes most of its larger
+// shading bias. 0 for an edge blurred by 0.8 px or less.
+double WeakViewEdgeDerivativeSigmaPx(double blur_sigma_px);
+
 // The shading of the two surfaces beside a straight stretch of an edge, from the stretch's
 // mean profile across it: `direction` (unit) runs along the edge from `start` for `length_px`,
 // and each side, between `inner_px` and `outer_px` off the edge along the left normal

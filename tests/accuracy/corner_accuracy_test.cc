@@ -22,6 +22,7 @@
 #include <limits>
 #include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -291,6 +292,21 @@ RigidTransform LevelMountOf(const CornerPose& truth, double tip_x_rad, double ti
 
 // `ceiling_scale`: the ceiling distance given to the locator, relative to the truth.
 // `with_bound`: also compute each located view's Cramér–Rao bound (realistic looks only).
+// EXPERIMENT: MONOCLE_CORNER_ONLY=FILE (lines "seed index") renders only those views.
+bool ViewWanted(uint64_t seed, int index) {
+  static const std::set<std::pair<uint64_t, int>>* wanted = [] {
+    auto* set = new std::set<std::pair<uint64_t, int>>;
+    if (const char* path = std::getenv("MONOCLE_CORNER_ONLY")) {
+      std::ifstream in(path);
+      uint64_t s;
+      int i;
+      while (in >> s >> i) set->insert({s, i});
+    }
+    return set;
+  }();
+  return wanted->empty() || wanted->count({seed, index}) > 0;
+}
+
 Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale = 1.0,
                       bool with_bound = false) {
   const CameraIntrinsics k = testing::PaperCamera();
@@ -303,6 +319,10 @@ Stats RenderAndLocate(int count, uint64_t seed, Look look, double ceiling_scale 
                            ? testing::RandomRealisticCornerPose(rng, k, /*short_edge=*/i % 3 == 0)
                            : testing::RandomCornerPose(rng, k, /*margin_px=*/60);
     if (!truth) continue;
+    if (!ViewWanted(seed, i)) {
+      tip_normal(tip_rng), tip_normal(tip_rng);
+      continue;
+    }
     const CornerScene scene = SceneOfView(k, seed, i, look, *truth);
     const cv::Mat image = RenderCornerScene(k, *truth, scene);
     ++stats.images;
@@ -953,15 +973,85 @@ TEST(CornerAccuracyTest, AFaintEdgesShadingIsRemovedAndCounted) {
   EXPECT_GT(got->shading_shift.head<2>().norm(), 0.005 * distance);
   EXPECT_LT(RelativeHorizontalError(*got, view.truth),
             0.85 * RelativeHorizontalError(*then, view.truth));
-  // The shift is what moved it: the same edges, the same pose before it.
-  EXPECT_NEAR(got->pose.x_m - got->shading_shift[0], then->pose.x_m, 1e-6);
-  EXPECT_NEAR(got->pose.y_m - got->shading_shift[1], then->pose.y_m, 1e-6);
+  // The shift is what moved it: with the edges measured once (as before, not again with the
+  // wider filter), the same pose before it.
+  CornerQualityOptions once;
+  once.remeasure_above_relative_sigma = std::numeric_limits<double>::infinity();
+  const auto shifted = LocateCorner(view.image, k, view.truth.z_m, {}, once);
+  ASSERT_TRUE(shifted.ok()) << shifted.error();
+  EXPECT_FALSE(shifted->edges_measured_again);
+  EXPECT_GT(shifted->shading_shift.head<2>().norm(), 0.005 * distance);
+  EXPECT_NEAR(shifted->pose.x_m - shifted->shading_shift[0], then->pose.x_m, 1e-6);
+  EXPECT_NEAR(shifted->pose.y_m - shifted->shading_shift[1], then->pose.y_m, 1e-6);
+  EXPECT_TRUE(got->edges_measured_again) << "its 1 sigma is over 0.6 % of the distance";
   EXPECT_TRUE(got->suspect_only_imprecise) << got->suspect_reason;
   EXPECT_NEAR(got->noise_sigma_grey, then->noise_sigma_grey, 1e-12) << "the same image's noise";
   EXPECT_GT(got->noise_sigma_grey, 1.0);
   EXPECT_GT(sigma_h, CornerQualityOptions{}.max_relative_sigma * distance);
   EXPECT_NE(got->suspect_reason.find("the shading beside the edges moved it"), std::string::npos)
       << got->suspect_reason;
+}
+
+// The first 100 weakly determined realistic views of seeds 1200001-1300002 (picked by the 1
+// sigma main's code reported before this change, 0.6-1.2 % of the distance, and by nothing
+// else), each located twice: measured once, and, where the first fit's 1 sigma is over 0.6 %,
+// measured again along the fitted lines with a derivative filter 1.9x the edges' blur (1.6x
+// before) and the shading beside them read. The wider filter locates a faint edge more
+// precisely; the shading's correction removes most of its larger bias. Measured: RMS error
+// 0.687 -> 0.649 % of the distance (mean ln ratio -0.13 +- 0.08). Over all 1778 weak views of
+// 120 realistic seeds, errors 4 % smaller and poses more than 1 % off 412 -> 388 (README,
+// "Corner pose"). These seeds are among the 120 the filter's width was chosen on.
+TEST(CornerAccuracyTest, WeakViewsMeasuredAgainWithAWiderFilterAreNearerTheTruth) {
+  const std::vector<std::pair<uint64_t, std::vector<int>>> views = {
+      {1200001, {13, 21, 27, 59, 60, 69}},
+      {1200002, {33, 63}},
+      {1200003, {9, 12, 21, 25, 27, 42, 59, 60, 66, 69}},
+      {1200004, {0, 4, 9, 15, 19, 27, 29, 42, 60, 63, 69}},
+      {1200005, {15}},
+      {1200006, {3, 6, 9, 18, 32, 51, 60, 65, 69}},
+      {1200007, {15, 18, 54, 68}},
+      {1200008, {33, 41, 45, 68}},
+      {1200009, {11, 17, 24, 36, 42, 62, 66, 69}},
+      {1200010, {1, 6, 48}},
+      {1200011, {0, 21, 33, 39, 60, 63, 66}},
+      {1200012, {7, 9, 16, 25, 33, 36, 42}},
+      {1200013, {23, 29, 57}},
+      {1200014, {26, 45, 60, 61, 66, 71}},
+      {1200015, {14, 34, 42}},
+      {1200016, {16, 26, 33, 39, 40, 42, 66}},
+      {1300001, {0, 5, 36, 45, 63}},
+      {1300002, {1, 27, 36, 45}}};
+  const CameraIntrinsics k = testing::PaperCamera();
+  CornerQualityOptions once;
+  once.remeasure_above_relative_sigma = std::numeric_limits<double>::infinity();
+  double sum2_once = 0, sum2_again = 0;
+  int located = 0, measured_again = 0, over_1_once = 0, over_1_again = 0;
+  for (const auto& [seed, indices] : views) {
+    for (int index : indices) {
+      const RealisticView view = RenderRealisticView(k, seed, index);
+      const auto a = LocateCorner(view.image, k, view.truth.z_m, {}, once);
+      const auto b = LocateCorner(view.image, k, view.truth.z_m);
+      if (!a.ok() || !b.ok()) continue;
+      EXPECT_FALSE(a->edges_measured_again);
+      const double e_once = RelativeHorizontalError(*a, view.truth);
+      const double e_again = RelativeHorizontalError(*b, view.truth);
+      sum2_once += e_once * e_once;
+      sum2_again += e_again * e_again;
+      over_1_once += e_once > 0.01;
+      over_1_again += e_again > 0.01;
+      measured_again += b->edges_measured_again;
+      ++located;
+    }
+  }
+  const double rms_once = std::sqrt(sum2_once / located),
+               rms_again = std::sqrt(sum2_again / located);
+  std::cout << "  " << located << " views, " << measured_again << " measured again: RMS error "
+            << 100 * rms_once << " % measured once, " << 100 * rms_again
+            << " % again; more than 1 % off " << over_1_once << " -> " << over_1_again << "\n";
+  ASSERT_GE(located, 95);
+  EXPECT_GT(measured_again, located / 2);
+  EXPECT_LT(rms_again, 0.97 * rms_once);
+  EXPECT_LE(over_1_again, over_1_once);
 }
 
 // A corner near the image's border: the vertical edge runs 90 px to it, the ceiling's
@@ -1103,7 +1193,9 @@ TEST(CornerAccuracyTest, FreshSeedsOnDemand) {
   for (uint64_t seed : seeds) {
     const Stats s = RenderAndLocate(72, seed, look, 1.0, /*with_bound=*/true);
     s.Print(("seed " + std::to_string(seed)).c_str());
-    ASSERT_GE(s.images, 60) << "seed " << seed;
+    if (std::getenv("MONOCLE_CORNER_ONLY") == nullptr) {
+      ASSERT_GE(s.images, 60) << "seed " << seed;
+    }
     seeds_meeting_p95 += Stats::Percentile(s.horizontal_rel, 0.95) <= 0.01;
     pooled.Merge(s);
   }
