@@ -613,26 +613,26 @@ struct MeasuredLines {
   double point_sigma_px = 0;
 };
 
-// `again`: the lines measured before, of which the edges not in `measure` are kept (their
+// `before`: the lines measured before, of which the edges not in `measure` are kept (their
 // points in `edges` are then those lines'); nullptr measures all three.
 Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& k, double min_step,
                                    const std::array<bool, 3>& wide_filter,
-                                   const MeasuredLines* again, const std::array<bool, 3>& measure,
+                                   const MeasuredLines* before, const std::array<bool, 3>& measure,
                                    CornerEdges* edges) {
   const double focal = 0.5 * (k.fx + k.fy);
   MeasuredLines out;
   for (int m = 0; m < 3; ++m) {
-    if (again != nullptr && !measure[m]) {
-      out.fits[m] = again->fits[m];
-      out.stretches[m] = again->stretches[m];
-      out.replaced[m] = again->replaced[m];
+    if (before != nullptr && !measure[m]) {
+      out.fits[m] = before->fits[m];
+      out.stretches[m] = before->stretches[m];
+      out.replaced[m] = before->replaced[m];
       continue;
     }
-    auto fit =
-        FitEdge(grey, k, m, min_step, wide_filter[m], again != nullptr ? &again->fits[m] : nullptr,
-                edges, &out.replaced[m], &out.stretches[m]);
+    auto fit = FitEdge(grey, k, m, min_step, wide_filter[m],
+                       before != nullptr ? &before->fits[m] : nullptr, edges, &out.replaced[m],
+                       &out.stretches[m]);
     if (!fit) return MakeError(ErrorCode::kNotFound, "a corner edge could not be fitted");
-    if (again != nullptr && !out.replaced[m])
+    if (before != nullptr && !out.replaced[m])
       return MakeError(ErrorCode::kNotFound, "an edge measured again gave too few points");
     out.fits[m] = std::move(*fit);
   }

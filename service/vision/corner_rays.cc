@@ -25,7 +25,10 @@ struct Ring {
 
   // The step at image angle `angle`; false where a window left the image.
   bool StepAt(double angle, double* out) const {
-    int i = static_cast<int>(std::lround(angle / (2 * kPi) * samples)) % samples;
+    // Rounded half away from zero, as std::lround, without its library call (360 directions
+    // times every ring, each frame).
+    const double at = angle / (2 * kPi) * samples;
+    int i = (at >= 0 ? static_cast<int>(at + 0.5) : -static_cast<int>(0.5 - at)) % samples;
     if (i < 0) i += samples;
     if (!step_valid[i]) return false;
     *out = step[i];
@@ -50,8 +53,10 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
     const double next_c = c * turn_c - s * turn_s;
     s = s * turn_c + c * turn_s;
     c = next_c;
-    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-    if (x0 < 0 || y0 < 0 || x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) continue;
+    // Truncation is the floor for x, y >= 0; anything below 0 is skipped either way.
+    if (!(x >= 0 && y >= 0)) continue;
+    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    if (x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) continue;
     const double fx = x - x0, fy = y - y0;
     const uint8_t* r0 = grey.ptr<uint8_t>(y0) + x0;
     const uint8_t* r1 = grey.ptr<uint8_t>(y0 + 1) + x0;

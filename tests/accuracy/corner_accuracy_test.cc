@@ -292,7 +292,11 @@ RigidTransform LevelMountOf(const CornerPose& truth, double tip_x_rad, double ti
 
 // `ceiling_scale`: the ceiling distance given to the locator, relative to the truth.
 // `with_bound`: also compute each located view's Cramér–Rao bound (realistic looks only).
-// EXPERIMENT: MONOCLE_CORNER_ONLY=FILE (lines "seed index") renders only those views.
+// Whether RenderAndLocate renders view `index` of `seed`: all of them, unless
+// MONOCLE_CORNER_ONLY=FILE lists some ("seed index" per line, as a per-view file of
+// MONOCLE_CORNER_VIEWS_OUT starts its lines), to judge a change on the views it can touch (the
+// weakly determined ones) in a fraction of the time. The others' random draws are still made,
+// so each listed view is the one the full set renders.
 bool ViewWanted(uint64_t seed, int index) {
   static const std::set<std::pair<uint64_t, int>>* wanted = [] {
     auto* set = new std::set<std::pair<uint64_t, int>>;
@@ -1174,7 +1178,8 @@ std::vector<uint64_t> ParseSeeds(const std::string& text) {
 // variable. To judge a change to the locator view by view (corner_view_record.h):
 // MONOCLE_CORNER_VIEWS_OUT=FILE writes each view's error, bound and 1 sigma, and
 // MONOCLE_CORNER_VIEWS_BEFORE=FILE, a file written so before the change on the same seeds,
-// prints how each view's error moved. This is how the fresh-seed figures in README.md and
+// prints how each view's error moved; MONOCLE_CORNER_ONLY=FILE renders only the views it lists
+// (ViewWanted). This is how the fresh-seed figures in README.md and
 // tests/accuracy/corner_pose_notes.md are measured (run a seed once, and never tune on it);
 // it asserts only that every set is large enough to judge.
 TEST(CornerAccuracyTest, FreshSeedsOnDemand) {
