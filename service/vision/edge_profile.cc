@@ -521,9 +521,10 @@ std::optional<SurfaceShading> MeasureShadingAcrossStretch(const cv::Mat& grey,
   const Eigen::Vector2d d = direction.normalized();
   const Eigen::Vector2d n(-d.y(), d.x());
   std::array<std::array<double, 2>, 2> line{};  // per side: level at the edge, slope
-  // Every row's samples at once, as MeasureEdgeStretch samples its patch: positions, then
-  // the four neighbours, then the blend, in separate loops (three times faster than one
-  // Bilinear call per sample; the same values bit for bit).
+  // Each row in three loops, as MeasureEdgeStretch samples its patch: the positions (checked
+  // inside the image), the bilinear samples (checked unclipped), their sum. With
+  // BilinearNonNegative, 1.7x faster than one Bilinear call per sample (192 realistic frames:
+  // 14.8 -> 8.7 ms), the same values bit for bit.
   const int samples = static_cast<int>(std::floor((length_px + 1e-9) / 2)) + 1;
   thread_local std::vector<double> xs, ys;
   thread_local std::vector<float> values;
