@@ -170,7 +170,8 @@ TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
 }
 
 // A far camera (5.9 m from one wall, 0.33 m from the other) fixes its position weakly: the
-// JSON says how far the shading beside the edges moved it, and the 1 sigma counts that shift.
+// JSON says how far the shading beside the edges moved it, and the 1 sigma counts that shift;
+// and that its edges were measured a second time, with the wider filter (measured_again).
 // A near one's pose is not looked at that way (its 1 sigma is under 0.4 % of the distance).
 TEST_F(CornerCliTest, AWeakViewSaysHowFarTheShadingMovedIt) {
   const std::string far = dir_ / "far.png", near = dir_ / "near.png";
@@ -198,9 +199,13 @@ TEST_F(CornerCliTest, AWeakViewSaysHowFarTheShadingMovedIt) {
       ASSERT_EQ(out.shading_shift_m_size(), 2) << lines[i];
       EXPECT_LE(std::abs(out.shading_shift_m(0)), out.sigma().x()) << lines[i];
       EXPECT_LE(std::abs(out.shading_shift_m(1)), out.sigma().y()) << lines[i];
+      // Its 1 sigma (1.7 %) is over 0.6 %: the edges were measured a second time.
+      EXPECT_GT(sigma, 0.006 * distance) << lines[i];
+      EXPECT_TRUE(out.measured_again()) << lines[i];
     } else {
       EXPECT_LT(sigma, 0.004 * distance) << lines[i];
       EXPECT_EQ(out.shading_shift_m_size(), 0) << lines[i];
+      EXPECT_FALSE(out.has_measured_again()) << lines[i];
     }
   }
 }
