@@ -31,11 +31,11 @@
 #include <vector>
 
 #include "bench/bench_process.h"
-#include "client/protocol/convert.h"
-#include "client/protocol/dds.h"
-#include "client/protocol/wire.h"
+#include "camera/sim/sim_calibrations.h"
+#include "idl/protocol/convert.h"
+#include "idl/protocol/dds.h"
+#include "idl/protocol/wire.h"
 #include "monocle/client.h"
-#include "service/server/service_config.h"
 
 namespace {
 

@@ -7,14 +7,14 @@
 #include <thread>
 #include <type_traits>
 
-#include "client/protocol/cdr.h"
 #include "idl/monocle_msgs.h"
+#include "idl/protocol/cdr.h"
 #include "idl/ros2_messages.h"
 
 namespace monocle {
 namespace {
 
-// MCAP channel topics are ROS names (client/record/recorder.h).
+// MCAP channel topics are ROS names (idl/record/recorder.h).
 constexpr const char* kCamerasChannel = "/monocle/cameras";
 constexpr const char* kCalibrationsChannel = "/monocle/calibrations";
 constexpr const char* kImageLeaf = "/image_raw";

@@ -10,9 +10,9 @@
 #include <thread>
 #include <tuple>
 
-#include "client/protocol/convert.h"
-#include "client/protocol/service_endpoints.h"
-#include "client/protocol/wire.h"
+#include "idl/protocol/convert.h"
+#include "idl/protocol/service_endpoints.h"
+#include "idl/protocol/wire.h"
 
 namespace monocle {
 namespace {

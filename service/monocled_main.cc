@@ -10,8 +10,9 @@
 #include <iostream>
 #include <string>
 
-#include "client/protocol/dds.h"
-#include "client/record/recorder.h"
+#include "camera/sim/sim_calibrations.h"
+#include "idl/protocol/dds.h"
+#include "idl/record/recorder.h"
 #include "service/server/replay_setup.h"
 #include "service/server/service.h"
 #include "service/server/service_config.h"
@@ -24,7 +25,7 @@ constexpr const char* kUsage =
                 [--replay FILE.mcap [--replay-rate X] [--replay-loop]] [--print-config]
 
 The monocle service: measures robot poses from ceiling corners and floor points from its
-cameras and serves them over Cyclone DDS (topics in the README, "The service over DDS").
+cameras and serves them over Cyclone DDS (topics: service/README.md).
 
   --config FILE    text-protobuf configuration (schema idl/service_config.proto): cameras
                    (Aravis id, IP, serial, or sim-corner / sim-floor), their role (CORNER,
@@ -200,7 +201,22 @@ int main(int argc, char** argv) {
   // A file size limit must end the recording with its summary, not the service.
   std::signal(SIGXFSZ, SIG_IGN);
 
-  auto service = monocle::Service::Start(*setup, StopRequested);
+  // The recorder starts before the cameras, so the recording holds every frame processed.
+  std::unique_ptr<monocle::record::Recorder> recorder;
+  auto start_recording = [&](monocle::Service& started) -> monocle::Status {
+    if (record_path.empty()) return monocle::Ok{};
+    for (const auto& cam : started.served_cameras())
+      record_options.namespaces.push_back(cam.ros_namespace);
+    auto recording =
+        monocle::record::Recorder::Start(started.participant(), record_path, record_options);
+    if (!recording) {
+      return monocle::MakeError(recording.error().code, "--record: " + recording.error().message);
+    }
+    recorder = std::move(*recording);
+    std::cerr << "monocled: recording to " << record_path << "\n";
+    return monocle::Ok{};
+  };
+  auto service = monocle::Service::Start(*setup, StopRequested, start_recording);
   if (!service && service.error().code == monocle::ErrorCode::kCancelled) {
     std::cerr << "monocled: stopped during start-up\n";
     return 0;
@@ -229,21 +245,6 @@ int main(int argc, char** argv) {
             << (setup->security_dir.empty() ? ", plain DDS (no security_dir)"
                                             : ", DDS Security as " + setup->security_dir)
             << "\n";
-  std::unique_ptr<monocle::record::Recorder> recorder;
-  if (!record_path.empty()) {
-    for (const auto& cam : service->get()->served_cameras()) {
-      record_options.namespaces.push_back(cam.ros_namespace);
-    }
-    auto started =
-        monocle::record::Recorder::Start((*service)->participant(), record_path, record_options);
-    if (!started) {
-      std::cerr << "monocled: error: --record: " << started.error() << "\n";
-      (*service)->Stop();
-      return 1;
-    }
-    recorder = std::move(*started);
-    std::cerr << "monocled: recording to " << record_path << "\n";
-  }
   const auto period = setup->status_period;
   timespec wait{static_cast<time_t>(period.count() / 1000),
                 static_cast<long>(period.count() % 1000) * 1000000L};

@@ -9,8 +9,8 @@ ReconnectingSource::ReconnectingSource(AravisOptions options, StateCallback on_s
                                        std::chrono::milliseconds stall_timeout)
     : options_(std::move(options)), on_state_(std::move(on_state)), stall_timeout_(stall_timeout) {}
 
-void ReconnectingSource::SetState(CameraState s, const std::string& reason) {
-  if (s == state_ && s == CameraState::kStreaming) return;
+void ReconnectingSource::SetState(SourceState s, const std::string& reason) {
+  if (s == state_ && s == SourceState::kStreaming) return;
   state_ = s;
   if (on_state_) on_state_(s, reason);
 }
@@ -32,7 +32,7 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
         if (opened.error().code == ErrorCode::kCancelled) return opened.error();
         if (IsPermanentCameraError(opened.error())) {
           failed_ = opened.error();
-          SetState(CameraState::kFailed, opened.error().message);
+          SetState(SourceState::kFailed, opened.error().message);
           return opened.error();
         }
         // Back-off doubles up to 0.5 s: a camera that answers again streams within a second
@@ -40,7 +40,7 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
         next_attempt_ = std::chrono::steady_clock::now() + backoff_;
         backoff_ = std::min(backoff_ * 2, kMaxBackoff);
         // Say why, so a status display can tell "camera not found" from "lost".
-        SetState(CameraState::kReconnecting, opened.error().message);
+        SetState(SourceState::kReconnecting, opened.error().message);
         continue;
       }
       source_ = std::move(opened).value();
@@ -52,7 +52,7 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
     auto frame = source_->Next(std::min(left, stall_timeout_));
     if (frame) {
       last_frame_ = std::chrono::steady_clock::now();
-      SetState(CameraState::kStreaming, "");
+      SetState(SourceState::kStreaming, "");
       return frame;
     }
     // Lost (control-lost) or no frame for longer than the stall timeout: report, drop, retry.
@@ -60,7 +60,7 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
     if (frame.error().code == ErrorCode::kIo || stalled) {
       // Report first: closing a camera that no longer answers can take seconds of GVCP
       // time-outs.
-      SetState(CameraState::kReconnecting, stalled && frame.error().code != ErrorCode::kIo
+      SetState(SourceState::kReconnecting, stalled && frame.error().code != ErrorCode::kIo
                                                ? "camera '" + options_.device +
                                                      "' stalled: no frame for " +
                                                      std::to_string(stall_timeout_.count()) + " ms"
@@ -74,7 +74,7 @@ Result<Frame> ReconnectingSource::Next(std::chrono::milliseconds timeout) {
   }
   return MakeError(ErrorCode::kNotFound,
                    "no frame from camera '" + options_.device + "' yet (" +
-                       (state_ == CameraState::kStreaming ? "streaming" : "reconnecting") + ")");
+                       (state_ == SourceState::kStreaming ? "streaming" : "reconnecting") + ")");
 }
 
 }  // namespace monocle

@@ -10,13 +10,13 @@
 #include <string>
 
 #include "camera/aravis/aravis_source.h"
-#include "monocle/types.h"  // CameraState: one state type from the camera up to the client
+#include "camera/source_state.h"
 
 namespace monocle {
 
 class ReconnectingSource : public FrameSource {
  public:
-  using StateCallback = std::function<void(CameraState, const std::string& reason)>;
+  using StateCallback = std::function<void(SourceState, const std::string& reason)>;
 
   ReconnectingSource(AravisOptions options, StateCallback on_state,
                      std::chrono::milliseconds stall_timeout = std::chrono::milliseconds(1000));
@@ -26,18 +26,18 @@ class ReconnectingSource : public FrameSource {
   // permanent error (IsPermanentCameraError) puts the source in kFailed for good: every
   // later call returns that error at once.
   Result<Frame> Next(std::chrono::milliseconds timeout) override;
-  CameraState state() const { return state_; }
+  SourceState state() const { return state_; }
   static constexpr std::chrono::milliseconds kMaxBackoff{500};
 
  private:
-  void SetState(CameraState s, const std::string& reason);
+  void SetState(SourceState s, const std::string& reason);
 
   AravisOptions options_;
   StateCallback on_state_;
   std::chrono::milliseconds stall_timeout_;
   std::unique_ptr<AravisSource> source_;
   std::optional<Error> failed_;
-  CameraState state_ = CameraState::kReconnecting;
+  SourceState state_ = SourceState::kReconnecting;
   std::chrono::milliseconds backoff_{100};
   std::chrono::steady_clock::time_point next_attempt_{};
   std::chrono::steady_clock::time_point last_frame_{};

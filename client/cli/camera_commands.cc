@@ -54,7 +54,7 @@ constexpr const char* kSimcamHelp =
 Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
 frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
 trajectory of N poses (frame id k shows pose k mod N), `floor` a chessboard and a box on
-the floor, `room` a robot driving through a room of a map (README "Room map"): frame id k
+the floor, `room` a robot driving through a room of a map (service/README.md, "Room map"): frame id k
 shows trajectory pose k mod N, seen by a wide lens (f 700 px at 1280 px wide) on the mount.
 Runs until Ctrl-C (SIGINT) or SIGTERM.
 

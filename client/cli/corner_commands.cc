@@ -15,15 +15,12 @@
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
+#include "client/cli/corner_setup.h"
 #include "client/cli/live.h"
 #include "client/cli/map_output.h"
 #include "idl/cli_output.pb.h"
-#include "service/geometry/map_pose_tracker.h"
 #include "service/io/calibration_file.h"
-#include "service/io/room_map_file.h"
-#include "service/vision/corner_level.h"
-#include "service/vision/corner_locator.h"
-#include "service/vision/corner_tracker.h"
+#include "service/pipeline/corner_pipeline.h"
 
 namespace monocle::cli {
 namespace {
@@ -70,7 +67,7 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
                            (the floor's slope, the suspension, the mount's own error), degrees
                            (default 0.3); with --map too
 
-In a map (README "Room map"), instead of one corner's frame:
+In a map (service/README.md, "Room map"), instead of one corner's frame:
   --map MAP.pbtxt          the rooms and their ceiling corners (idl/room_map.proto); every
                            corner is tried and the one consistent with the view is named:
                            the base's x, y (metres) and heading (degrees from the map's +x
@@ -186,44 +183,6 @@ int LocateLive(const Args& args) {
   return kExitOk;
 }
 
-// --level-sigma DEG: how level the robot stands (1 sigma), radians; 0.3 degrees by default.
-Result<double> LevelSigmaRad(const Args& args) {
-  const auto deg = args.GetDouble("--level-sigma", 0.3);
-  if (!deg || !(*deg >= 0.01 && *deg <= 5))
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "--level-sigma must be how level the robot stands, 1 sigma in degrees "
-                     "(0.01-5; default 0.3)");
-  return *deg * std::numbers::pi / 180;
-}
-
-// --map MAP --mount MOUNT: the map and the camera's mount, or nothing without --map.
-Result<std::optional<MapPoseTracker>> OpenMap(const Args& args, double level_sigma_rad) {
-  const auto map_path = args.Get("--map");
-  const auto mount_path = args.Get("--mount");
-  if (!map_path) {
-    if (args.Get("--prior"))
-      return MakeError(ErrorCode::kInvalidArgument, "--prior needs --map MAP.pbtxt");
-    return std::optional<MapPoseTracker>();
-  }
-  if (!mount_path) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "--map needs --mount MOUNT.pbtxt: the camera's pose on the robot base "
-                     "(e.g. idl/examples/camera_mount.pbtxt)");
-  }
-  if (args.Get("--ceiling-distance")) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "--ceiling-distance is not used with --map: each corner's follows from the "
-                     "map's ceiling height and the mount's height");
-  }
-  auto map = LoadRoomMapFile(*map_path);
-  if (!map) return map.error();
-  auto mount = LoadCameraMountFile(*mount_path, *map);
-  if (!mount) return mount.error();
-  MapTrackerOptions options;
-  options.checks.level_sigma_rad = level_sigma_rad;
-  return std::optional<MapPoseTracker>(std::in_place, std::move(*map), *mount, options);
-}
-
 int Locate(const std::vector<std::string>& argv) {
   if (WantsHelp(argv)) {
     std::cout << kLocateHelp;
@@ -254,45 +213,18 @@ int Locate(const std::vector<std::string>& argv) {
   if (!calibration) return Fail(calibration.error(), kExitFailure);
   const auto level_sigma_rad = LevelSigmaRad(*args);
   if (!level_sigma_rad) return Fail(level_sigma_rad.error(), kExitUsage);
-  std::optional<MapPoseTracker> in_map;
-  if (auto map = OpenMap(*args, *level_sigma_rad); !map) {
-    return Fail(map.error(), map.error().code == ErrorCode::kInvalidArgument &&
-                                     map.error().message.starts_with("--")
-                                 ? kExitUsage
-                                 : kExitFailure);
-  } else if (map->has_value()) {
-    in_map.emplace(std::move(**map));
-  }
-  // --mount without --map: the camera rides a robot on a level floor, which fixes its tilt
-  // and swing (the map combines the same level itself).
-  std::optional<RigidTransform> level_mount;
-  if (const auto mount_path = args->Get("--mount"); mount_path && !in_map) {
-    auto mount = LoadCameraMountFile(*mount_path, RoomMap{});
-    if (!mount) return Fail(mount.error(), kExitFailure);
-    level_mount = *mount;
-  }
-  MountLevelOptions level;
-  level.level_sigma_rad = *level_sigma_rad;
+  auto setup = CornerSetupFromArgs(*args, *level_sigma_rad);
+  if (!setup) return Fail(setup.error(), UsageOrFailure(setup.error()));
+  CornerPipelineOptions options = std::move(*setup);
   // In a map each corner's ceiling distance follows from the mount: solve at any one of
   // them (the map scales the pose to each corner's).
-  double zc = 0;
-  if (in_map) {
-    zc = in_map->map().rooms.front().ceiling_height_m - in_map->base_camera().translation.z();
-  } else {
+  if (!options.room_map) {
     const auto z =
         CeilingDistanceM(*args, calibration->ceiling_distance_m, *cal_path,
                          " (or locate in a room map: --map MAP.pbtxt --mount MOUNT.pbtxt)");
     if (!z) return Fail(z.error(), kExitUsage);
-    zc = *z;
+    options.ceiling_distance_m = *z;
   }
-  std::optional<BasePose2d> prior;
-  if (const auto text = args->Get("--prior")) {
-    const auto v = ParseNumberList(*text);
-    if (!v || v->size() != 3)
-      return Fail("--prior '" + *text + "' is not X,Y,HEADING_DEG (metres, degrees)", kExitUsage);
-    prior = BasePose2d{(*v)[0], (*v)[1], (*v)[2] * std::numbers::pi / 180};
-  }
-  if (in_map && prior) in_map->SetPose(*prior);
   const auto overlay = args->Get("--overlay");
   if (overlay) {
     std::error_code ec;
@@ -301,42 +233,25 @@ int Locate(const std::vector<std::string>& argv) {
       return Fail("cannot create overlay folder '" + *overlay + "': " + ec.message(), kExitFailure);
   }
   const bool json = args->Has("--json");
-  const auto detect_every = args->GetDouble("--detect-every", 30);
-  if (!detect_every || *detect_every < 1 || *detect_every != std::floor(*detect_every))
-    return Fail("--detect-every must be a whole number of images >= 1", kExitUsage);
-  CornerTrackerOptions tracking;
-  tracking.detect_every_n_frames = static_cast<int>(*detect_every);
-  CornerQualityOptions quality;  // corner { max_swing } in the calibration file
-  quality.max_swing_rad = calibration->corner_max_swing_rad.value_or(quality.max_swing_rad);
-  std::optional<CornerTracker> tracker;
-  if (args->Has("--track"))
-    tracker.emplace(calibration->intrinsics, zc, tracking, CornerDetectorOptions{}, quality);
+  const auto detect_every = DetectEvery(*args, "images");
+  if (!detect_every) return Fail(detect_every.error(), kExitUsage);
+  options.tracking.detect_every_n_frames = *detect_every;
+  options.track = args->Has("--track");
+  CornerPipeline pipeline(std::move(options));
   bool any_failed = false;
   for (const auto& path : args->positionals()) {
     const auto image = ReadGreyImage(path);
-    Result<CornerLocation> result =
-        !image    ? Result<CornerLocation>(image.error())
-        : tracker ? tracker->Process(*image)
-                  : LocateCorner(*image, calibration->intrinsics, zc, {}, quality);
-    if (!image && tracker) tracker->Reset();  // a gap in the sequence
-    if (result && level_mount) ApplyMountLevel(*level_mount, level, quality, &*result);
-    any_failed |= !result.ok();
-    std::optional<MapLocation> where;
-    if (in_map) {
-      // Unordered images are each judged by the room and --prior alone.
-      if (!tracker) {
-        in_map->Forget();
-        if (prior) in_map->SetPose(*prior);
-      }
-      if (result) {
-        where = in_map->Next(result->pose, result->covariance,
-                             SeenEdgeExtentsAtLeast(calibration->intrinsics, result->pose,
-                                                    result->corner_px, result->line_end_px));
-        any_failed |= !where->decided();
-      } else {
-        in_map->Missed();
-      }
+    CornerPipelineResult located;
+    if (image) {
+      located = pipeline.Process(*image, *calibration);
+    } else {
+      located.corner = image.error();
+      pipeline.Missed();  // a gap in the sequence
     }
+    const Result<CornerLocation>& result = located.corner;
+    const std::optional<MapLocation>& where = located.map;
+    any_failed |= !result.ok();
+    if (where) any_failed |= !where->decided();
     if (overlay && image)
       WriteCornerOverlay(*overlay, path, *image, calibration->intrinsics, result);
     if (json) {

@@ -12,7 +12,7 @@
 #include "client/cli/live.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
-#include "service/server/point_queries.h"
+#include "service/pipeline/point_queries.h"
 
 #include <unistd.h>
 #include <chrono>

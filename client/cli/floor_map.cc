@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "service/server/point_queries.h"
+#include "service/pipeline/point_queries.h"
 
 namespace monocle::cli {
 namespace {

@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "service/geometry/test_scenes.h"
-#include "service/server/point_queries.h"
+#include "service/pipeline/point_queries.h"
 
 namespace monocle::cli {
 namespace {

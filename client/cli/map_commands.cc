@@ -26,7 +26,7 @@ constexpr const char* kOverview = R"(Usage: monocle map check|draw ...
   draw MAP.pbtxt --out MAP.png [--trajectory FILE] [--poses POSES.jsonl]
       The map from above with a trajectory and the poses `corner locate --map` found.
 
-README "Room map" explains the files (examples in idl/examples/).
+service/README.md, "Room map" explains the files (examples in idl/examples/).
 )";
 
 constexpr const char* kCheckHelp = R"help(Usage: monocle map check MAP.pbtxt [--mount MOUNT.pbtxt]

@@ -14,7 +14,7 @@
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
 #include "client/cli/live.h"
-#include "client/record/recorder.h"
+#include "idl/record/recorder.h"
 #include "service/io/mcap_reader.h"
 
 namespace monocle::cli {

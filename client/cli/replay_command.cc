@@ -13,9 +13,11 @@
 #include "client/cli/args.h"
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
+#include "client/cli/corner_setup.h"
+#include "client/cli/map_output.h"
 #include "client/cli/progress.h"
 #include "service/io/calibration_file.h"
-#include "service/vision/corner_tracker.h"
+#include "service/pipeline/corner_pipeline.h"
 
 namespace monocle::cli {
 namespace {
@@ -23,6 +25,8 @@ namespace {
 constexpr const char* kReplayHelp =
     R"help(Usage: monocle replay FILE.mcap [--camera ID] [--rate X] [--json]
                       [--calibration CAL.pbtxt] [--ceiling-distance Z] [--detect-every N]
+                      [--map MAP.pbtxt --mount MOUNT.pbtxt [--prior X,Y,HEADING_DEG]]
+                      [--level-sigma DEG]
 
 Runs the recorded frames of a recording (monocle record --frames every|N, or monocled
 --record-frames) through the corner pipeline monocled runs: the three edges tracked from
@@ -41,6 +45,12 @@ a replay gives the same poses every time (monocled live skips frames while it is
                        the recording started with
   --ceiling-distance Z camera to ceiling, metres (default: what the service used)
   --detect-every N     a full detection at least every N frames (default 30, as monocled)
+  --map MAP --mount MOUNT
+                       place every pose in the room map monocled was configured with
+                       (room_map, mount): the same map poses it published, frame for frame
+  --prior X,Y,DEG      where the robot started in the map (monocled's initial_pose)
+  --mount MOUNT alone  combine each pose with the robot's level (monocled's level_sigma_deg)
+  --level-sigma DEG    how level the robot stands, 1 sigma in degrees (default 0.3)
 
 Text lines: "<camera> frame N  x=... y=... z=... m  pan=... tilt=... swing=... rad (1σ ...)".
 A progress line goes to the terminal when the poses go to a file. `monocle info FILE` lists
@@ -53,7 +63,8 @@ Exit status 1 if a frame had no pose or the file is damaged.
 struct ReplayedCamera {
   RecordedCamera recorded;
   std::unique_ptr<RecordingSource> source;
-  std::optional<CornerTracker> tracker;
+  std::optional<CornerPipeline> pipeline;
+  CameraCalibration calibration;
   std::optional<Frame> next;
 };
 
@@ -68,9 +79,9 @@ int ReplayCommand(const std::vector<std::string>& argv) {
     std::cout << kReplayHelp;
     return kExitOk;
   }
-  auto args = Args::Parse(
-      argv, {{"--camera", "--rate", "--calibration", "--ceiling-distance", "--detect-every"},
-             {"--json"}});
+  auto args = Args::Parse(argv, {{"--camera", "--rate", "--calibration", "--ceiling-distance",
+                                  "--detect-every", "--map", "--mount", "--prior", "--level-sigma"},
+                                 {"--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->positionals().size() != 1)
     return Fail("give exactly one FILE.mcap (see --help)", kExitUsage);
@@ -78,9 +89,13 @@ int ReplayCommand(const std::vector<std::string>& argv) {
   const auto rate = args->GetDouble("--rate", 0);
   if (!rate || !(*rate >= 0) || *rate > 1000)
     return Fail("--rate must be 0 (as fast as possible) or a factor up to 1000", kExitUsage);
-  const auto detect_every = args->GetDouble("--detect-every", 30);
-  if (!detect_every || *detect_every < 1 || *detect_every != std::floor(*detect_every))
-    return Fail("--detect-every must be a whole number of frames >= 1", kExitUsage);
+  const auto detect_every = DetectEvery(*args, "frames");
+  if (!detect_every) return Fail(detect_every.error(), kExitUsage);
+  const auto level_sigma_rad = LevelSigmaRad(*args);
+  if (!level_sigma_rad) return Fail(level_sigma_rad.error(), kExitUsage);
+  auto setup = CornerSetupFromArgs(*args, *level_sigma_rad);
+  if (!setup) return Fail(setup.error(), UsageOrFailure(setup.error()));
+  setup->tracking.detect_every_n_frames = *detect_every;
   std::optional<double> ceiling_override;
   if (args->Get("--ceiling-distance")) {
     const auto z = args->GetDouble("--ceiling-distance", 0);
@@ -128,8 +143,6 @@ int ReplayCommand(const std::vector<std::string>& argv) {
                 kExitFailure);
   }
   uint64_t total = 0;
-  CornerTrackerOptions tracking;
-  tracking.detect_every_n_frames = static_cast<int>(*detect_every);
   for (auto& r : replayed) {
     CameraCalibration calibration;
     if (calibration_override) {
@@ -145,19 +158,20 @@ int ReplayCommand(const std::vector<std::string>& argv) {
       if (!parsed) return Fail(parsed.error(), kExitFailure);
       calibration = *parsed;
     }
-    const double zc = ceiling_override.value_or(
+    const double zc = setup->ceiling_distance_m.value_or(ceiling_override.value_or(
         calibration_override
             ? calibration.ceiling_distance_m.value_or(0)
-            : r.recorded.ceiling_distance_m.value_or(calibration.ceiling_distance_m.value_or(0)));
+            : r.recorded.ceiling_distance_m.value_or(calibration.ceiling_distance_m.value_or(0))));
     if (!(zc > 0)) {
       return Fail("camera '" + r.recorded.id +
                       "': the camera-to-ceiling distance is unknown; give --ceiling-distance Z "
                       "(metres)",
                   kExitUsage);
     }
-    CornerQualityOptions quality;  // corner { max_swing } in the calibration file
-    quality.max_swing_rad = calibration.corner_max_swing_rad.value_or(quality.max_swing_rad);
-    r.tracker.emplace(calibration.intrinsics, zc, tracking, CornerDetectorOptions{}, quality);
+    CornerPipelineOptions options = *setup;
+    options.ceiling_distance_m = zc;
+    r.pipeline.emplace(std::move(options));
+    r.calibration = calibration;
     auto source = RecordingSource::Open(path, r.recorded.ros_namespace, ReplayPace{*rate, false});
     if (!source) return Fail(source.error(), kExitFailure);
     r.source = std::move(*source);
@@ -195,7 +209,8 @@ int ReplayCommand(const std::vector<std::string>& argv) {
     }
     if (first == nullptr) break;
     const Frame frame = std::move(*first->next);
-    const Result<CornerLocation> result = first->tracker->Process(frame.grey);
+    const CornerPipelineResult located = first->pipeline->Process(frame.grey, first->calibration);
+    const Result<CornerLocation>& result = located.corner;
     any_failed |= !result.ok();
     if (json) {
       proto::LivePoseOutput out;
@@ -204,11 +219,13 @@ int ReplayCommand(const std::vector<std::string>& argv) {
       out.set_capture_time_ns(frame.capture_time_ns);
       out.set_time_source("recorded");
       *out.mutable_pose() = ToCornerOutput("", result);
+      if (located.map) *out.mutable_pose()->mutable_map() = ToMapLocationOutput(*located.map);
       std::cout << ToJson(out) << std::endl;
     } else {
       const std::string label = first->recorded.id + " frame " + std::to_string(frame.sequence);
       if (result) {
         std::cout << CornerResultLine(label, *result) << std::endl;
+        if (located.map) std::cout << "  " << MapLocationLine(*located.map) << std::endl;
       } else {
         std::cout << label << "  error: " << result.error().message << std::endl;
       }

@@ -97,7 +97,7 @@ int StatusCommand(const std::vector<std::string>& argv) {
   if (const std::string clash = DuplicateCameras(*current); !clash.empty()) {
     std::cerr << "monocle: warning: " << clash
               << ": their topics and requests mix; give each robot its own ros_namespace "
-                 "(README, \"Several robots on one domain\")\n";
+                 "(service/README.md, \"Several robots on one domain\")\n";
     exit_status = kExitFailure;
   }
   if (!args->Has("--watch")) return exit_status;

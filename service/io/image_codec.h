@@ -1,7 +1,7 @@
 // Image files decoded and encoded with libpng, libjpeg(-turbo) and libtiff directly, PNM and
 // BMP by hand. OpenCV's imgcodecs would do all of it, but it links GDAL, HDF5, poppler and
 // some hundred further libraries, and loading them was 50 of the 60 ms every `monocle`
-// command took to start (README, "Benchmarks"); the runtime image carried them all.
+// command took to start (bench/README.md); the runtime image carried them all.
 //
 // Decoding gives what cv::imdecode(bytes, cv::IMREAD_GRAYSCALE) gives for the same file (the
 // tests compare them pixel for pixel): colour through the same weights, 16-bit samples by

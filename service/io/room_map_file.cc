@@ -10,55 +10,13 @@
 #include "idl/room_map.pb.h"
 #include "idl/service_config.pb.h"
 #include "service/io/bounded_file.h"
+#include "service/io/field_errors.h"
 #include "service/io/text_proto.h"
 
 namespace monocle {
 namespace {
 
-using google::protobuf::Descriptor;
 using google::protobuf::TextFormat;
-
-// One step of a field path: a field of the message, and the index for repeated ones.
-struct PathStep {
-  const char* field;
-  int index = -1;
-};
-
-// "source: line N: room[0].corner[1].position why", the line of the deepest step the parser
-// recorded (a missing field takes its parent's line).
-class FieldErrors {
- public:
-  FieldErrors(std::string source, const TextFormat::ParseInfoTree& tree, const Descriptor* root)
-      : source_(std::move(source)), tree_(tree), root_(root) {}
-
-  Error At(std::initializer_list<PathStep> path, const std::string& why) const {
-    const TextFormat::ParseInfoTree* tree = &tree_;
-    const Descriptor* message = root_;
-    int line = -1;
-    std::string name;
-    for (const PathStep& step : path) {
-      name += (name.empty() ? "" : ".") + std::string(step.field) +
-              (step.index >= 0 ? "[" + std::to_string(step.index) + "]" : "");
-      const auto* field = message != nullptr ? message->FindFieldByName(step.field) : nullptr;
-      if (tree == nullptr || field == nullptr) continue;
-      const int index = field->is_repeated() ? std::max(step.index, 0) : -1;
-      auto at = tree->GetLocation(field, index);
-      // A list ("edge_heading_deg: [0, 90]") is recorded at its first value only.
-      if (at.line < 0 && index > 0) at = tree->GetLocation(field, 0);
-      if (at.line >= 0) line = at.line;
-      tree = field->message_type() != nullptr ? tree->GetTreeForNested(field, index) : nullptr;
-      message = field->message_type();
-    }
-    return MakeError(ErrorCode::kInvalidArgument,
-                     source_ + (line >= 0 ? ": line " + std::to_string(line + 1) : "") + ": " +
-                         name + " " + why);
-  }
-
- private:
-  std::string source_;
-  const TextFormat::ParseInfoTree& tree_;
-  const Descriptor* root_;
-};
 
 std::string Metres(double v) {
   std::ostringstream s;
@@ -87,8 +45,9 @@ Result<RoomMap> ParseRoomMap(const std::string& text, const std::string& source)
   if (auto parsed = ParseTextProto(text, source, &msg, &tree); !parsed) return parsed.error();
   const FieldErrors errors(source, tree, proto::RoomMap::descriptor());
   if (msg.room_size() == 0)
-    return MakeError(ErrorCode::kInvalidArgument,
-                     source + ": no room { ... } in the map (README \"Room map\" has an example)");
+    return MakeError(
+        ErrorCode::kInvalidArgument,
+        source + ": no room { ... } in the map (service/README.md, \"Room map\", has an example)");
   if (msg.room_size() > kMaxRooms)
     return errors.At({{"room", kMaxRooms}}, "is one room too many (at most 1000)");
   RoomMap out;

@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "camera/aravis/reconnecting_source.h"
-#include "service/vision/corner_level.h"
+#include "service/pipeline/corner_pipeline.h"
 
 namespace monocle {
 namespace {
@@ -56,12 +56,7 @@ CameraWorker::~CameraWorker() { Stop(); }
 
 void CameraWorker::Start() {
   acquisition_ = std::thread([this] { Acquire(); });
-  if (setup_.room_map && setup_.mount) {
-    MapTrackerOptions options;
-    if (setup_.level_sigma_rad) options.checks.level_sigma_rad = *setup_.level_sigma_rad;
-    map_tracker_.emplace(*setup_.room_map, MountTransform(*setup_.mount), options);
-    if (setup_.initial_pose) map_tracker_->SetPose(*setup_.initial_pose);
-  }
+  pipeline_.emplace(CornerPipelineOptionsOf(setup_));
   if (setup_.corner()) processing_ = std::thread([this] { Process(); });
 }
 
@@ -74,10 +69,10 @@ void CameraWorker::Stop() {
   if (acquisition_.joinable()) acquisition_.join();
   if (processing_.joinable()) processing_.join();
   std::lock_guard<std::mutex> lock(mutex_);
-  status_.state = CameraState::kStopped;
+  status_.state = SourceState::kStopped;
 }
 
-void CameraWorker::SetState(CameraState state, const std::string& error) {
+void CameraWorker::SetState(SourceState state, const std::string& error) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.state = state;
@@ -99,12 +94,12 @@ void CameraWorker::Acquire() {
     auto opened = RecordingSource::Open(setup_.replay->mcap_path, setup_.replay->recorded_namespace,
                                         setup_.replay->pace);
     if (!opened) {
-      SetState(CameraState::kFailed, opened.error().message);
+      SetState(SourceState::kFailed, opened.error().message);
       return;
     }
     recording = opened->get();
     source = std::move(*opened);
-    SetState(CameraState::kStreaming, "");
+    SetState(SourceState::kStreaming, "");
   } else {
     AravisOptions options = setup_.options;
     options.cancelled = [this] {
@@ -113,7 +108,7 @@ void CameraWorker::Acquire() {
     };
     source = std::make_unique<ReconnectingSource>(
         std::move(options),
-        [this](CameraState s, const std::string& reason) { SetState(s, reason); },
+        [this](SourceState s, const std::string& reason) { SetState(s, reason); },
         setup_.stall_timeout);
   }
   while (true) {
@@ -124,11 +119,11 @@ void CameraWorker::Acquire() {
     auto frame = source->Next(std::chrono::milliseconds(200));
     if (!frame && recording != nullptr) {
       if (recording->ended()) {
-        SetState(CameraState::kStopped, frame.error().message);
+        SetState(SourceState::kStopped, frame.error().message);
         return;
       }
       if (frame.error().code == ErrorCode::kNotFound) continue;  // next frame not due yet
-      SetState(CameraState::kFailed, frame.error().message);
+      SetState(SourceState::kFailed, frame.error().message);
       return;
     }
     if (!frame) {
@@ -165,9 +160,7 @@ void CameraWorker::Process() {
   while (true) {
     Frame frame;
     std::chrono::steady_clock::time_point received;
-    CameraIntrinsics intrinsics;
-    double ceiling_m = 0;
-    CornerQualityOptions quality;
+    CameraCalibration calibration;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       frame_ready_.wait(lock, [&] { return stop_ || latest_.has_value(); });
@@ -175,46 +168,15 @@ void CameraWorker::Process() {
       frame = std::move(*latest_);
       latest_.reset();
       received = latest_received_;
-      intrinsics = calibration_.intrinsics;
-      ceiling_m = setup_.ceiling_distance_m.value_or(calibration_.ceiling_distance_m.value_or(0));
-      quality.max_swing_rad = calibration_.corner_max_swing_rad.value_or(quality.max_swing_rad);
+      calibration = calibration_;
     }
     ProcessedFrame out;
     out.sequence = frame.sequence;
     out.capture_time_ns = frame.capture_time_ns;
     out.camera_clock = frame.time_source == TimeSource::kCamera;
-    // One tracker per calibration: new intrinsics, ceiling distance or roll limit start afresh.
-    if (!tracker_ || tracker_intrinsics_.fx != intrinsics.fx ||
-        tracker_intrinsics_.fy != intrinsics.fy || tracker_intrinsics_.cx != intrinsics.cx ||
-        tracker_intrinsics_.cy != intrinsics.cy ||
-        tracker_intrinsics_.distortion != intrinsics.distortion ||
-        tracker_intrinsics_.width_px != intrinsics.width_px ||
-        tracker_intrinsics_.height_px != intrinsics.height_px || tracker_ceiling_m_ != ceiling_m ||
-        tracker_quality_.max_swing_rad != quality.max_swing_rad) {
-      tracker_.emplace(intrinsics, ceiling_m, CornerTrackerOptions{}, CornerDetectorOptions{},
-                       quality);
-      tracker_intrinsics_ = intrinsics;
-      tracker_ceiling_m_ = ceiling_m;
-      tracker_quality_ = quality;
-    }
-    out.corner = ceiling_m > 0 ? tracker_->Process(frame.grey)
-                               : LocateCorner(frame.grey, intrinsics, ceiling_m, {}, quality);
-    // Without a map, the mount's level when configured (the map combines it itself).
-    if (out.corner && !map_tracker_ && setup_.mount && setup_.level_sigma_rad) {
-      MountLevelOptions level;
-      level.level_sigma_rad = *setup_.level_sigma_rad;
-      ApplyMountLevel(MountTransform(*setup_.mount), level, quality, &*out.corner);
-    }
-    if (map_tracker_) {
-      if (out.corner) {
-        const CornerLocation& c = *out.corner;
-        out.map = map_tracker_->Next(
-            c.pose, c.covariance,
-            SeenEdgeExtentsAtLeast(intrinsics, c.pose, c.corner_px, c.line_end_px));
-      } else {
-        map_tracker_->Missed();
-      }
-    }
+    CornerPipelineResult result = pipeline_->Process(frame.grey, calibration);
+    out.corner = std::move(result.corner);
+    out.map = std::move(result.map);
     out.processing_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::steady_clock::now() - received)
                             .count();
@@ -257,7 +219,7 @@ Result<Frame> CameraWorker::NextFrame(std::chrono::milliseconds timeout) {
   const bool first = status_.frames == 0;
   const auto wait = first ? std::max(timeout, kFirstFrameWait) : timeout;
   frame_ready_.wait_for(lock, wait, [&] {
-    return stop_ || grab_count_ > before || status_.state == CameraState::kFailed;
+    return stop_ || grab_count_ > before || status_.state == SourceState::kFailed;
   });
   --grab_waiters_;
   if (grab_count_ > before && grabbed_) {

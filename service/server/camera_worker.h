@@ -14,12 +14,12 @@
 #include <vector>
 
 #include "camera/frame_source.h"
-#include "monocle/types.h"
+#include "camera/source_state.h"
+#include "idl/protocol/values.h"
 #include "service/geometry/map_pose_tracker.h"
 #include "service/io/calibration_file.h"
+#include "service/pipeline/corner_pipeline.h"
 #include "service/server/service_config.h"
-#include "service/vision/corner_locator.h"
-#include "service/vision/corner_tracker.h"
 
 namespace monocle {
 
@@ -34,7 +34,7 @@ struct ProcessedFrame {
 };
 
 struct WorkerStatus {
-  CameraState state = CameraState::kReconnecting;
+  SourceState state = SourceState::kReconnecting;
   double fps = 0;         // frames received per second since the last snapshot
   uint64_t frames = 0;    // since start
   uint64_t dropped = 0;   // frame id gaps: sent by the camera, never received
@@ -75,7 +75,7 @@ class CameraWorker {
  private:
   void Acquire();
   void Process();
-  void SetState(CameraState state, const std::string& error);
+  void SetState(SourceState state, const std::string& error);
 
   const CameraSetup setup_;
   const OnProcessed on_processed_;
@@ -97,13 +97,8 @@ class CameraWorker {
   std::vector<double> period_latency_ms_;
   std::optional<uint64_t> last_sequence_;
 
-  // Owned by the processing thread alone (not guarded): the corner tracker and what it was
-  // made for.
-  std::optional<CornerTracker> tracker_;
-  std::optional<MapPoseTracker> map_tracker_;  // with a room map (processing thread only)
-  CameraIntrinsics tracker_intrinsics_;
-  double tracker_ceiling_m_ = 0;
-  CornerQualityOptions tracker_quality_;
+  // Owned by the processing thread alone (not guarded).
+  std::optional<CornerPipeline> pipeline_;
 
   std::thread acquisition_, processing_;
 };

@@ -2,8 +2,8 @@
 
 #include <thread>
 
-#include "client/protocol/convert.h"
-#include "client/protocol/wire.h"
+#include "idl/protocol/convert.h"
+#include "idl/protocol/wire.h"
 
 namespace monocle {
 namespace {
@@ -79,7 +79,7 @@ std::vector<DuplicateWatch::Clash> DuplicateWatch::NewClashes() {
           {s.ros_namespace, "camera namespace " + s.ros_namespace + " (camera '" + s.camera_id +
                                 "') is also served by monocled " + s.service +
                                 " on this DDS domain: give each robot its own ros_namespace "
-                                "(see README, \"Several robots on one domain\")"});
+                                "(see service/README.md, \"Several robots on one domain\")"});
     }
   }
 }

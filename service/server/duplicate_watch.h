@@ -18,8 +18,8 @@
 #include <utility>
 #include <vector>
 
-#include "client/protocol/dds.h"
 #include "idl/monocle_msgs.h"
+#include "idl/protocol/dds.h"
 
 namespace monocle {
 

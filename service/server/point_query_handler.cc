@@ -2,7 +2,10 @@
 
 #include <iostream>
 
-#include "service/server/point_queries.h"
+#include "service/pipeline/point_queries.h"
+
+static_assert(monocle::kMaxPointsPerRequest == monocle::wire::kMaxPointsPerRequest,
+              "the core answers as many points as the wire carries");
 
 namespace monocle {
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "client/protocol/convert.h"
+#include "idl/protocol/convert.h"
 #include "service/server/calibration_store.h"
 #include "service/server/request_server.h"
 

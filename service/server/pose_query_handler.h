@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "client/protocol/convert.h"
+#include "idl/protocol/convert.h"
 #include "service/server/request_server.h"
 
 namespace monocle {

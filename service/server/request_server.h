@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "client/protocol/service_endpoints.h"
+#include "idl/protocol/service_endpoints.h"
 #include "service/server/service_config.h"
 
 namespace monocle {

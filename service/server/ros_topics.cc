@@ -3,8 +3,8 @@
 #include <cstring>
 #include <iostream>
 
-#include "client/protocol/convert.h"
-#include "client/protocol/wire.h"
+#include "idl/protocol/convert.h"
+#include "idl/protocol/wire.h"
 #include "service/geometry/pose_covariance.h"
 #include "service/geometry/robot_frames.h"
 #include "service/server/wire_values.h"
@@ -101,10 +101,10 @@ Result<std::unique_ptr<RosTopics>> RosTopics::Open(const std::shared_ptr<dds::En
     geometry_msgs_msg_dds__TransformStamped_ t{};
     t.header.frame_id = Chars(cam.mount->base_frame);
     t.child_frame_id = Chars(cam.ros_frame);
-    const auto& m = *cam.mount;
-    t.transform.translation = {m.translation_m[0], m.translation_m[1], m.translation_m[2]};
-    t.transform.rotation = {m.rotation_xyzw[0], m.rotation_xyzw[1], m.rotation_xyzw[2],
-                            m.rotation_xyzw[3]};
+    const RigidTransform mount = MountTransform(*cam.mount);  // the rotation normalized
+    t.transform.translation = {mount.translation.x(), mount.translation.y(), mount.translation.z()};
+    t.transform.rotation = {mount.rotation.x(), mount.rotation.y(), mount.rotation.z(),
+                            mount.rotation.w()};
     mounts.push_back(t);
   }
   if (!mounts.empty()) {
@@ -293,13 +293,10 @@ void RosTopics::PublishDiagnostics(
     auto& t = text[i];
     // OK while streaming; ERROR while the camera is lost or failed (no measurements); STALE
     // once stopped.
-    s.level = st.state == CameraState::kStreaming ? 0 : st.state == CameraState::kStopped ? 3 : 2;
+    s.level = st.state == SourceState::kStreaming ? 0 : st.state == SourceState::kStopped ? 3 : 2;
     t[0] = "monocle: " + setup->id;
-    t[1] = st.state == CameraState::kStreaming      ? "streaming"
-           : st.state == CameraState::kReconnecting ? "reconnecting"
-           : st.state == CameraState::kFailed       ? "failed"
-                                                    : "stopped";
-    if (st.state != CameraState::kStreaming && st.state != CameraState::kStopped &&
+    t[1] = ToString(st.state);
+    if (st.state != SourceState::kStreaming && st.state != SourceState::kStopped &&
         !st.last_error.empty())
       t[1] += ": " + st.last_error;
     s.name = Chars(t[0]);

@@ -1,5 +1,5 @@
 // Every topic monocled publishes, in ROS 2's own terms on plain Cyclone DDS with
-// rmw_cyclonedds_cpp's wire conventions (client/protocol/wire.h). Per camera, under its
+// rmw_cyclonedds_cpp's wire conventions (idl/protocol/wire.h). Per camera, under its
 // namespace (default /monocle/<camera>):
 //   <ns>/corner_pose  monocle_msgs/CornerPose, every processed frame (with or without a pose)
 //   <ns>/pose         geometry_msgs/PoseWithCovarianceStamped, every valid, unsuspected pose
@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "client/protocol/dds.h"
 #include "idl/monocle_msgs.h"
+#include "idl/protocol/dds.h"
 #include "idl/ros2_messages.h"
 #include "service/server/camera_worker.h"
 #include "service/server/service_config.h"

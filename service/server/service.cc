@@ -23,8 +23,9 @@ std::string ThisServiceId() {
 
 }  // namespace
 
-Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup,
-                                                const std::function<bool()>& stop_requested) {
+Result<std::unique_ptr<Service>> Service::Start(
+    const ServiceSetup& setup, const std::function<bool()>& stop_requested,
+    const std::function<Status(Service&)>& before_cameras) {
   const Error cancelled = MakeError(ErrorCode::kCancelled, "start-up stopped by a signal");
   std::unique_ptr<Service> s(new Service());
   s->setup_ = setup;
@@ -67,7 +68,7 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup,
       continue;
     }
     WorkerStatus refusal;
-    refusal.state = CameraState::kFailed;
+    refusal.state = SourceState::kFailed;
     refusal.last_error = "not served: camera namespace " + it->ros_namespace +
                          " is already served by monocled " + other->second +
                          " on this DDS domain; give this camera its own ros_namespace";
@@ -110,6 +111,9 @@ Result<std::unique_ptr<Service>> Service::Start(const ServiceSetup& setup,
   }
   if (stop_requested()) return cancelled;
   for (const auto& cam : cameras) s->PublishCalibration(cam, loaded[cam.id], 1);
+  if (before_cameras) {
+    if (Status ready = before_cameras(*s); !ready) return ready.error();
+  }
   for (auto& w : s->workers_) {
     if (stop_requested()) return cancelled;  // ~Service stops the workers already started
     w->Start();
@@ -131,7 +135,7 @@ void Service::Stop() {
   // A refused camera was never ours: its last word is "stopped" too, so nobody waits on it.
   for (auto& r : refused_) {
     if (!topics_) break;  // start-up was stopped before the topics were opened
-    r.status.state = CameraState::kStopped;
+    r.status.state = SourceState::kStopped;
     topics_->PublishStatus(r.camera, CameraStatusOf(r.camera, r.status, service_id_, UnixNowNs()));
   }
 }

@@ -1,5 +1,5 @@
 // The monocle service: its cameras (one CameraWorker each) and everything it says and answers
-// over DDS, in ROS 2's conventions (client/protocol/wire.h): poses, status, calibrations and
+// over DDS, in ROS 2's conventions (idl/protocol/wire.h): poses, status, calibrations and
 // the camera's image on topics (ros_topics.h), and per camera the services measure_points,
 // get_pose and calibrate_floor, each served by its own handler.
 #pragma once
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "client/protocol/dds.h"
+#include "idl/protocol/dds.h"
 #include "service/server/calibration_store.h"
 #include "service/server/camera_worker.h"
 #include "service/server/duplicate_watch.h"
@@ -29,10 +29,13 @@ class Service {
   // Loads every camera's calibration, opens DDS, starts the cameras and request handlers.
   // Errors name the camera and the file. `stop_requested` is asked between the steps of
   // start-up (and between cameras); when it says yes, Start undoes what it did and fails
-  // with kCancelled, so a stop signal is obeyed during start-up too.
+  // with kCancelled, so a stop signal is obeyed during start-up too. `before_cameras` runs
+  // once DDS and the topics are up and before any camera delivers a frame (monocled
+  // --record starts its recorder there, so the recording holds every frame processed); an
+  // error from it ends start-up with that error.
   static Result<std::unique_ptr<Service>> Start(
-      const ServiceSetup& setup,
-      const std::function<bool()>& stop_requested = [] { return false; });
+      const ServiceSetup& setup, const std::function<bool()>& stop_requested = [] { return false; },
+      const std::function<Status(Service&)>& before_cameras = {});
   ~Service();
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;

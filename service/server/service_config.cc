@@ -10,11 +10,11 @@
 #include <set>
 #include <sstream>
 
-#include "camera/sim/sim_gv_camera.h"
-#include "client/protocol/dds.h"
+#include "idl/protocol/dds.h"
 #include "idl/service_config.pb.h"
 #include "service/io/bounded_file.h"
 #include "service/io/calibration_file.h"
+#include "service/io/field_errors.h"
 #include "service/io/room_map_file.h"
 #include "service/io/text_proto.h"
 
@@ -25,38 +25,24 @@ using google::protobuf::TextFormat;
 
 // "cfg.pbtxt: line 7: camera[1].role must be ..." (the line of the field, or of the camera
 // when the field is missing).
-class FieldErrors {
+class ConfigErrors {
  public:
-  FieldErrors(const std::string& source, const TextFormat::ParseInfoTree& tree)
-      : source_(source), tree_(tree) {}
+  ConfigErrors(const std::string& source, const TextFormat::ParseInfoTree& tree)
+      : errors_(source, tree, proto::ServiceConfig::descriptor()) {}
 
   // `at_field`: the field whose line to name when it is not `field` itself.
   Error Camera(int index, const std::string& field, const std::string& why,
                const std::string& at_field = "") const {
-    const auto* camera_field = proto::ServiceConfig::descriptor()->FindFieldByName("camera");
-    int line = tree_.GetLocation(camera_field, index).line;
-    const auto* nested = tree_.GetTreeForNested(camera_field, index);
-    const auto* f =
-        proto::CameraConfig::descriptor()->FindFieldByName(at_field.empty() ? field : at_field);
-    if (nested != nullptr && f != nullptr) {
-      const auto at = nested->GetLocation(f, f->is_repeated() ? 0 : -1);
-      if (at.line >= 0) line = at.line;
-    }
-    return MakeError(ErrorCode::kInvalidArgument, source_ + ": line " + std::to_string(line + 1) +
-                                                      ": camera[" + std::to_string(index) + "]." +
-                                                      field + " " + why);
+    const std::string& line_field = at_field.empty() ? field : at_field;
+    return errors_.At({{"camera", index}, {field.c_str()}}, why,
+                      {{"camera", index}, {line_field.c_str()}});
   }
   Error Top(const std::string& field, const std::string& why) const {
-    const auto* f = proto::ServiceConfig::descriptor()->FindFieldByName(field);
-    const int line = f != nullptr ? tree_.GetLocation(f, -1).line : -1;
-    return MakeError(ErrorCode::kInvalidArgument,
-                     source_ + (line >= 0 ? ": line " + std::to_string(line + 1) : "") + ": " +
-                         field + " " + why);
+    return errors_.At({{field.c_str()}}, why);
   }
 
  private:
-  std::string source_;
-  const TextFormat::ParseInfoTree& tree_;
+  FieldErrors errors_;
 };
 
 }  // namespace
@@ -78,7 +64,7 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
   proto::ServiceConfig msg;
   TextFormat::ParseInfoTree tree;
   if (auto parsed = ParseTextProto(text, source, &msg, &tree); !parsed) return parsed.error();
-  const FieldErrors errors(source, tree);
+  const ConfigErrors errors(source, tree);
   ServiceSetup out;
   // Cyclone DDS maps a domain to UDP ports; 232 is the highest id whose ports fit.
   if (msg.domain() < 0 || msg.domain() > 232) return errors.Top("domain", "must be 0..232");
@@ -219,8 +205,8 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
       CameraSetup::Mount mount;
       mount.base_frame = m.base_frame();
       for (int k = 0; k < 3; ++k) mount.translation_m[static_cast<size_t>(k)] = m.translation_m(k);
-      for (int k = 0; k < 4; ++k)
-        mount.rotation_xyzw[static_cast<size_t>(k)] = m.rotation_xyzw(k) / std::sqrt(norm2);
+      // As given: MountTransform normalizes it, as a mount file's is (room_map_file.cc).
+      for (int k = 0; k < 4; ++k) mount.rotation_xyzw[static_cast<size_t>(k)] = m.rotation_xyzw(k);
       cam.mount = mount;
     }
     if (!c.room_map().empty()) {
@@ -282,8 +268,20 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
   return out;
 }
 
+CornerPipelineOptions CornerPipelineOptionsOf(const CameraSetup& camera) {
+  CornerPipelineOptions options;
+  options.ceiling_distance_m = camera.ceiling_distance_m;
+  if (camera.mount) options.base_camera = MountTransform(*camera.mount);
+  options.level_sigma_rad = camera.level_sigma_rad;
+  options.room_map = camera.room_map;
+  options.initial_pose = camera.initial_pose;
+  return options;
+}
+
 RigidTransform MountTransform(const CameraSetup::Mount& m) {
   const auto& q = m.rotation_xyzw;
+  // Normalized once, the same way a mount file is (LoadCameraMountFile), so monocled and
+  // `monocle corner locate --mount` / `replay --mount` place poses identically.
   return {Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized(),
           Eigen::Vector3d(m.translation_m[0], m.translation_m[1], m.translation_m[2])};
 }
@@ -318,31 +316,6 @@ camera {
   calibration: "sim-floor.pbtxt"
 }
 )";
-}
-
-Status EnsureSimulatorCalibrations(const std::string& state_dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(state_dir, ec);
-  if (ec) {
-    return MakeError(ErrorCode::kIo,
-                     "cannot create the state directory '" + state_dir + "': " + ec.message());
-  }
-  const auto corner_path = (std::filesystem::path(state_dir) / "sim-corner.pbtxt").string();
-  const auto floor_path = (std::filesystem::path(state_dir) / "sim-floor.pbtxt").string();
-  if (!std::filesystem::exists(corner_path)) {
-    CameraCalibration corner;
-    corner.intrinsics = SimIntrinsics(1280, 1024);
-    corner.ceiling_distance_m = kSimCeilingDistanceM;
-    if (auto s = SaveCalibrationFileAtomically(corner_path, corner); !s) return s;
-  }
-  if (!std::filesystem::exists(floor_path)) {
-    CameraCalibration floor;
-    floor.intrinsics = SimIntrinsics(1280, 1024);
-    floor.floor = FloorCalibration{};
-    floor.floor->pose = SimFloorPose();
-    if (auto s = SaveCalibrationFileAtomically(floor_path, floor); !s) return s;
-  }
-  return Ok{};
 }
 
 }  // namespace monocle

@@ -9,12 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "camera/aravis/aravis_source.h"
+#include "camera/aravis/aravis_options.h"
 #include "camera/recording_source.h"
 #include "service/common/result.h"
 #include "service/geometry/map_pose.h"
 #include "service/geometry/robot_frames.h"
 #include "service/geometry/room_map.h"
+#include "service/pipeline/corner_pipeline.h"
 
 namespace monocle {
 
@@ -42,13 +43,13 @@ struct CameraSetup {
   struct Mount {
     std::string base_frame;
     std::array<double, 3> translation_m{};
-    std::array<double, 4> rotation_xyzw{0, 0, 0, 1};
+    std::array<double, 4> rotation_xyzw{0, 0, 0, 1};  // as configured (norm 1 within 1e-3)
   };
   std::optional<Mount> mount;
   // How level the robot stands (level_sigma_deg), radians; set only if configured.
   std::optional<double> level_sigma_rad;
-  // A room map (README "Room map"), loaded and checked against the mount, and where the robot
-  // starts in it.
+  // A room map (service/README.md, "Room map"), loaded and checked against the mount, and where the
+  // robot starts in it.
   std::shared_ptr<const RoomMap> room_map;
   std::string room_map_path;
   std::optional<BasePose2d> initial_pose;
@@ -67,6 +68,10 @@ struct CameraSetup {
 
 // The mount as a rigid transform (optical frame in the base frame).
 RigidTransform MountTransform(const CameraSetup::Mount& mount);
+
+// What a camera's configuration asks of the corner pipeline: its ceiling distance, mount,
+// level and room map.
+CornerPipelineOptions CornerPipelineOptionsOf(const CameraSetup& camera);
 
 // Limits of a configuration, checked with the field named.
 inline constexpr int kMaxCamerasPerService = 64;
@@ -90,9 +95,5 @@ Result<ServiceSetup> LoadServiceConfig(const std::string& path);
 // sim-corner and sim-floor, with calibration files in `state_dir` (see
 // EnsureSimulatorCalibrations).
 std::string EmbeddedDefaultConfig();
-
-// Writes the simulated cameras' calibration files (sim-corner.pbtxt, sim-floor.pbtxt) into
-// `state_dir` unless they exist already (a floor calibration command may have updated them).
-Status EnsureSimulatorCalibrations(const std::string& state_dir);
 
 }  // namespace monocle

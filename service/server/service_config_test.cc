@@ -1,4 +1,5 @@
 #include "service/server/service_config.h"
+#include "camera/sim/sim_calibrations.h"
 
 #include <gtest/gtest.h>
 
@@ -71,7 +72,8 @@ camera {
   ASSERT_TRUE(c.mount.has_value());
   EXPECT_EQ(c.mount->base_frame, "base_link");
   EXPECT_DOUBLE_EQ(c.mount->translation_m[2], 1.1);
-  EXPECT_DOUBLE_EQ(c.mount->rotation_xyzw[3], 1);  // normalised
+  EXPECT_DOUBLE_EQ(c.mount->rotation_xyzw[3], 1.0004);  // as given; the transform normalizes
+  EXPECT_DOUBLE_EQ(MountTransform(*c.mount).rotation.w(), 1);
   ASSERT_TRUE(c.level_sigma_rad.has_value());
   EXPECT_NEAR(*c.level_sigma_rad, 0.2 * M_PI / 180, 1e-15);
 }

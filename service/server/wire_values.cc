@@ -80,6 +80,20 @@ Pose PoseOf(const CameraSetup& camera, const ProcessedFrame& frame) {
   return p;
 }
 
+CameraState ToWire(SourceState state) {
+  switch (state) {
+    case SourceState::kStreaming:
+      return CameraState::kStreaming;
+    case SourceState::kReconnecting:
+      return CameraState::kReconnecting;
+    case SourceState::kStopped:
+      return CameraState::kStopped;
+    case SourceState::kFailed:
+      return CameraState::kFailed;
+  }
+  return CameraState::kFailed;
+}
+
 CameraStatus CameraStatusOf(const CameraSetup& camera, const WorkerStatus& st,
                             const std::string& service_id, int64_t stamp_ns) {
   CameraStatus c;
@@ -88,7 +102,7 @@ CameraStatus CameraStatusOf(const CameraSetup& camera, const WorkerStatus& st,
   c.role = ToString(camera.role);
   c.ros_namespace = camera.ros_namespace;
   c.service = service_id;
-  c.state = st.state;
+  c.state = ToWire(st.state);
   c.fps = st.fps;
   c.frames = st.frames;
   c.dropped = st.dropped;

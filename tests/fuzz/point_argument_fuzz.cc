@@ -6,7 +6,7 @@
 #include <string>
 
 #include "client/cli/args.h"
-#include "service/server/point_queries.h"
+#include "service/pipeline/point_queries.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

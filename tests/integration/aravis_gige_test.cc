@@ -178,19 +178,19 @@ TEST(AravisGigeTest, LossIsReportedAndTheSameCameraResumes) {
   AravisOptions options;
   options.device = "127.0.0.1";
   options.region = std::array<int, 4>{0, 0, 640, 512};
-  std::vector<CameraState> states;
+  std::vector<SourceState> states;
   std::chrono::steady_clock::time_point reported_lost{}, reported_back{};
   ReconnectingSource source(
       options,
-      [&](CameraState s, const std::string& why) {
-        std::cout << (s == CameraState::kStreaming ? "streaming" : "reconnecting: ") << why << "\n";
-        (s == CameraState::kStreaming ? reported_back : reported_lost) =
+      [&](SourceState s, const std::string& why) {
+        std::cout << (s == SourceState::kStreaming ? "streaming" : "reconnecting: ") << why << "\n";
+        (s == SourceState::kStreaming ? reported_back : reported_lost) =
             std::chrono::steady_clock::now();
         states.push_back(s);
       },
       milliseconds(500));
   ASSERT_TRUE(source.Next(milliseconds(5000)).ok());
-  ASSERT_EQ(source.state(), CameraState::kStreaming);
+  ASSERT_EQ(source.state(), SourceState::kStreaming);
 
   // The camera goes away mid-stream.
   const auto stopping = std::chrono::steady_clock::now();
@@ -199,11 +199,11 @@ TEST(AravisGigeTest, LossIsReportedAndTheSameCameraResumes) {
   const auto stopped = std::chrono::steady_clock::now();
   std::cout << "simulated camera shut down in "
             << std::chrono::duration<double, std::milli>(stopped - stopping).count() << " ms\n";
-  while (source.state() == CameraState::kStreaming &&
+  while (source.state() == SourceState::kStreaming &&
          std::chrono::steady_clock::now() - stopped < std::chrono::seconds(30)) {
     (void)source.Next(milliseconds(200));
   }
-  ASSERT_EQ(source.state(), CameraState::kReconnecting);
+  ASSERT_EQ(source.state(), SourceState::kReconnecting);
 
   // And comes back on the same address.
   auto restarted_sim = SimGvCamera::Start(SmallCorner());
@@ -214,7 +214,7 @@ TEST(AravisGigeTest, LossIsReportedAndTheSameCameraResumes) {
     frame = source.Next(milliseconds(1000));
   }
   ASSERT_TRUE(frame.ok()) << frame.error();
-  EXPECT_EQ(source.state(), CameraState::kStreaming);
+  EXPECT_EQ(source.state(), SourceState::kStreaming);
   EXPECT_EQ(cv::norm(frame->grey, (*restarted_sim)->FrameFor(frame->sequence), cv::NORM_INF), 0);
   using ms = std::chrono::duration<double, std::milli>;
   std::cout << "loss reported " << ms(reported_lost - stopped).count()

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -431,13 +432,23 @@ namespace monocle {
 namespace {
 
 // Every command's --help is its own: exit status 0, its own usage line, and no other
-// command's (`render floor --help` once printed the corner help too).
+// command's (`render floor --help` once printed the corner help too). The commands are the
+// program's own list, so a new command is checked without touching this test.
 TEST(CommandLineHelpTest, EachCommandPrintsItsOwnHelp) {
   TempDir dir("monocle_help");
-  for (const std::string command :
-       {"floor calibrate", "floor measure", "floor map", "corner locate", "corner fit-mount",
-        "intrinsics calibrate", "render floor", "render corner", "render boards", "status",
-        "record", "info", "replay", "view", "security init", "cameras", "snapshot", "simcam"}) {
+  const auto list = testing::RunMonocle(dir, "help --list");
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  std::vector<std::string> commands;
+  std::istringstream names(list.out);
+  for (std::string name; std::getline(names, name);) commands.push_back(name);
+  for (const char* expected :
+       {"floor calibrate", "corner locate", "render boards", "replay", "security init", "simcam"}) {
+    EXPECT_NE(std::find(commands.begin(), commands.end(), expected), commands.end()) << expected;
+  }
+  const auto usage = testing::RunMonocle(dir, "--help");
+  for (const std::string& command : commands) {
+    EXPECT_NE(usage.out.find("\n  " + command + " "), std::string::npos)
+        << command << " is missing from the top-level usage";
     const auto r = testing::RunMonocle(dir, command + " --help");
     EXPECT_EQ(r.exit_code, 0) << command;
     EXPECT_EQ(r.out.rfind("Usage: monocle " + command, 0), 0u) << command << ":\n" << r.out;
@@ -453,6 +464,28 @@ TEST(CommandLineHelpTest, EachCommandPrintsItsOwnHelp) {
   const auto unknown = testing::RunMonocle(dir, "render nope");
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("unknown render command 'nope'"), std::string::npos) << unknown.err;
+}
+
+}  // namespace
+}  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// client/cli/README.md is what `monocle help --markdown` prints: every command's own help, so
+// the page cannot drift from the program.
+TEST(CommandReferenceTest, ThePageIsWhatTheProgramPrints) {
+  TempDir dir("monocle_reference");
+  const auto r = testing::RunMonocle(dir, "help --markdown");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream page(std::string(MONOCLE_SOURCE_DIR) + "/client/cli/README.md");
+  ASSERT_TRUE(page.good());
+  std::stringstream text;
+  text << page.rdbuf();
+  EXPECT_TRUE(text.str() == r.out)
+      << "client/cli/README.md is out of step with the program; regenerate it with\n"
+         "  build/client/monocle help --markdown > client/cli/README.md";
+  EXPECT_NE(r.out.find("## monocle render boards"), std::string::npos);
 }
 
 }  // namespace

@@ -9,9 +9,9 @@
 #include <mutex>
 #include <thread>
 
-#include "client/protocol/cdr.h"
-#include "client/protocol/convert.h"
 #include "idl/monocle_msgs.h"
+#include "idl/protocol/cdr.h"
+#include "idl/protocol/convert.h"
 #include "monocle/client.h"
 #include "service/io/mcap_reader.h"
 #include "tests/integration/paper_floor_calibration.h"

@@ -20,10 +20,10 @@
 #include <sstream>
 #include <thread>
 
-#include "client/protocol/cdr.h"
-#include "client/protocol/convert.h"
 #include "idl/cli_output.pb.h"
 #include "idl/monocle_msgs.h"
+#include "idl/protocol/cdr.h"
+#include "idl/protocol/convert.h"
 #include "monocle/client.h"
 #include "service/io/calibration_file.h"
 #include "service/io/mcap_reader.h"

@@ -13,9 +13,9 @@
 #include <thread>
 
 #include "camera/sim/sim_gv_camera.h"
-#include "client/protocol/convert.h"
-#include "client/protocol/service_endpoints.h"
-#include "client/protocol/wire.h"
+#include "idl/protocol/convert.h"
+#include "idl/protocol/service_endpoints.h"
+#include "idl/protocol/wire.h"
 #include "monocle/client.h"
 #include "service/io/calibration_file.h"
 #include "tests/integration/service_process.h"

@@ -6,7 +6,7 @@
 //   auto sub = client->subscribe_poses([](const monocle::Pose& p) { ... });
 //
 // Units: metres, radians, pixels, nanoseconds. Frames: poses are in the corner frame, points
-// in the robot frame (README, "Frames and units"). Methods are safe to call from several
+// in the robot frame (idl/README.md, "Frames and units"). Methods are safe to call from several
 // threads; calls of the same kind (e.g. two measure()) run one after the other. Callbacks run
 // on a thread of their subscription. Names follow the standard library and cyclonedds-cxx.
 #pragma once

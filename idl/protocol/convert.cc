@@ -1,4 +1,4 @@
-#include "client/protocol/convert.h"
+#include "idl/protocol/convert.h"
 
 #include <cmath>
 #include <cstring>

@@ -1,12 +1,12 @@
-#include "client/record/recorder.h"
+#include "idl/record/recorder.h"
 
 #include <dds/ddsi/ddsi_serdata.h>
 
 #include <chrono>
 
-#include "client/protocol/wire.h"
-#include "client/record/ros2_schemas.h"
 #include "idl/monocle_msgs.h"
+#include "idl/protocol/wire.h"
+#include "idl/record/ros2_schemas.h"
 #include "idl/ros2_messages.h"
 
 namespace monocle::record {

@@ -1,4 +1,4 @@
-#include "service/server/point_queries.h"
+#include "service/pipeline/point_queries.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Round trips of every conversion between monocle's values and their DDS samples, and the
 // refusals of malformed columns.
-#include "client/protocol/convert.h"
+#include "idl/protocol/convert.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "client/protocol/dds.h"
+#include "idl/protocol/dds.h"
 
 namespace monocle::wire {
 

@@ -1,4 +1,4 @@
-#include "client/protocol/dds.h"
+#include "idl/protocol/dds.h"
 
 #include <cstdlib>
 #include <filesystem>

@@ -1,6 +1,6 @@
 // The ros2msg schemas of recordings: every type a definition uses is defined in it exactly
 // once (what Foxglove's and rosbag2's parsers need), in the MCAP registry's delimiter format.
-#include "client/record/ros2_schemas.h"
+#include "idl/record/ros2_schemas.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,6 @@
 // Answers point queries: pixels of a floor camera -> robot-frame points with 1-sigma.
 #pragma once
 
-#include "client/protocol/wire.h"
-
 #include <cstdint>
 #include <map>
 #include <string>
@@ -13,7 +11,9 @@
 
 namespace monocle {
 
-inline constexpr size_t kMaxPointsPerRequest = wire::kMaxPointsPerRequest;
+// Points in one request: a larger one is refused with a typed error (the wire's sample limit,
+// idl/protocol/wire.h, is sized to carry this many).
+inline constexpr size_t kMaxPointsPerRequest = 100000;
 inline constexpr double kDefaultPixelSigmaPx = 0.5;
 
 struct PixelPair {

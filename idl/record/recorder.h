@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "client/protocol/dds.h"
+#include "idl/protocol/dds.h"
 #include "service/io/mcap_writer.h"
 
 namespace monocle::record {

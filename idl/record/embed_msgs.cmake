@@ -2,7 +2,7 @@
 # for the ros2msg schemas of recordings. Run at configure time by client/CMakeLists.txt.
 function(monocle_embed_msgs dir out)
   file(GLOB files ${dir}/msg/*.msg ${dir}/srv/*.srv)
-  set(body "// Generated from idl/ros/monocle_msgs by client/record/embed_msgs.cmake.\n#pragma once\n#include <map>\n#include <string>\nnamespace monocle::record {\ninline const std::map<std::string, std::string> kMonocleMsgsFiles = {\n")
+  set(body "// Generated from idl/ros/monocle_msgs by idl/record/embed_msgs.cmake.\n#pragma once\n#include <map>\n#include <string>\nnamespace monocle::record {\ninline const std::map<std::string, std::string> kMonocleMsgsFiles = {\n")
   foreach(f ${files})
     file(READ ${f} text)
     get_filename_component(name ${f} NAME_WE)

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "idl/monocle_msgs.h"
-#include "monocle/types.h"
+#include "idl/protocol/values.h"
 #include "service/common/result.h"
 
 namespace monocle::wire {

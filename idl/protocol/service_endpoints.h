@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "client/protocol/dds.h"
-#include "client/protocol/wire.h"
+#include "idl/protocol/dds.h"
+#include "idl/protocol/wire.h"
 
 namespace monocle::dds {
 

@@ -1,4 +1,4 @@
-#include "client/record/ros2_schemas.h"
+#include "idl/record/ros2_schemas.h"
 
 #include <map>
 #include <set>
