@@ -79,6 +79,179 @@ bool StopRequested() {
   return sigismember(&pending, SIGINT) == 1 || sigismember(&pending, SIGTERM) == 1;
 }
 
+// What the command line asks for.
+struct MonocledOptions {
+  std::string config_path, state_dir = DefaultStateDir(), security_dir;
+  std::optional<int> domain;
+  std::string record_path;
+  monocle::record::RecordOptions record_options;
+  std::string replay_path;
+  monocle::ReplayPace replay_pace;
+  bool replay_rate_given = false;
+};
+
+// --record-frames none|every|N; false for anything else.
+bool ParseRecordFrames(const std::string& mode, int* frames_every) {
+  char* end = nullptr;
+  const long n = std::strtol(mode.c_str(), &end, 10);
+  if (mode == "none") {
+    *frames_every = 0;
+  } else if (mode == "every") {
+    *frames_every = 1;
+  } else if (!mode.empty() && *end == '\0' && n >= 1 && n <= 1000000) {
+    *frames_every = static_cast<int>(n);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The options, or the exit status when monocled is to stop here (--help, --print-config, a
+// mistake on the command line).
+std::optional<int> ParseOptions(int argc, char** argv, MonocledOptions* o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else if (a == "--print-config") {
+      std::cout << monocle::EmbeddedDefaultConfig();
+      return 0;
+    } else if (a == "--config" && has_value) {
+      o->config_path = argv[++i];
+    } else if (a == "--security" && has_value) {
+      o->security_dir = argv[++i];
+    } else if (a == "--state-dir" && has_value) {
+      o->state_dir = argv[++i];
+    } else if (a == "--domain" && has_value) {
+      char* end = nullptr;
+      const long d = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || d < 0 || d > 232) return Usage("--domain must be 0..232");
+      o->domain = static_cast<int>(d);
+    } else if (a == "--record" && has_value) {
+      o->record_path = argv[++i];
+    } else if (a == "--replay" && has_value) {
+      o->replay_path = argv[++i];
+    } else if (a == "--replay-rate" && has_value) {
+      char* end = nullptr;
+      const double rate = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(rate >= 0) || rate > 1000)
+        return Usage("--replay-rate must be 0 (no waiting) or a factor up to 1000, e.g. 1 or 0.5");
+      o->replay_pace.rate = rate;
+      o->replay_rate_given = true;
+    } else if (a == "--replay-loop") {
+      o->replay_pace.loop = true;
+    } else if (a == "--record-zstd") {
+      o->record_options.zstd = true;
+    } else if (a == "--record-frames" && has_value) {
+      if (!ParseRecordFrames(argv[++i], &o->record_options.frames_every))
+        return Usage("--record-frames must be none, every or a whole number N >= 1");
+    } else if (a == "--config" || a == "--state-dir" || a == "--domain" || a == "--security" ||
+               a == "--record" || a == "--record-frames" || a == "--replay" ||
+               a == "--replay-rate") {
+      return Usage(a + " needs a value");
+    } else {
+      return Usage("unknown option " + a);
+    }
+  }
+  if (!o->replay_path.empty() && !o->config_path.empty())
+    return Usage("--replay serves the recording's own cameras and calibrations: not with --config");
+  if (o->replay_path.empty() && (o->replay_rate_given || o->replay_pace.loop))
+    return Usage("--replay-rate and --replay-loop need --replay FILE.mcap");
+  if (o->record_options.frames_every > 0 && o->record_path.empty())
+    return Usage("--record-frames needs --record FILE.mcap");
+  return std::nullopt;
+}
+
+// The cameras to serve: a recording's, the configuration's, or the embedded default's (its
+// simulators' calibration files written first). The exit status if they cannot be had.
+std::optional<int> LoadSetup(const MonocledOptions& o, monocle::ServiceSetup* out) {
+  monocle::Result<monocle::ServiceSetup> setup = monocle::MakeError(monocle::ErrorCode::kIo, "");
+  if (!o.replay_path.empty()) {
+    setup = monocle::ReplaySetup(o.replay_path, o.state_dir, o.replay_pace);
+  } else if (o.config_path.empty()) {
+    if (auto s = monocle::EnsureSimulatorCalibrations(o.state_dir); !s) {
+      std::cerr << "monocled: error: " << s.error() << "\n";
+      return 1;
+    }
+    setup = monocle::ParseServiceConfig(monocle::EmbeddedDefaultConfig(), "embedded default",
+                                        o.state_dir);
+  } else {
+    setup = monocle::LoadServiceConfig(o.config_path);
+  }
+  if (!setup) {
+    std::cerr << "monocled: error: " << setup.error() << "\n";
+    return 2;
+  }
+  if (o.domain) setup->domain = *o.domain;
+  if (!o.security_dir.empty()) {
+    if (auto c = monocle::dds::CheckSecurityDirectory(o.security_dir); !c) {
+      std::cerr << "monocled: error: --security: " << c.error() << "\n";
+      return 2;
+    }
+    setup->security_dir = o.security_dir;
+  }
+  if (!setup->security_dir.empty() && setup->domain > 230)
+    return Usage("a secured domain must be 0..230 (DDS Security governance)");
+  if (!o.record_path.empty() && o.record_options.frames_every > 0) {
+    // The recorder is an in-process subscriber of image_raw: let every frame through.
+    for (auto& cam : setup->cameras) cam.image_max_rate_hz = 1000;
+  }
+  *out = std::move(*setup);
+  return std::nullopt;
+}
+
+void LogServing(const monocle::Service& service, const monocle::ServiceSetup& setup) {
+  // Refused cameras were logged by Start with the reason; these are the ones served.
+  for (const auto& cam : service.served_cameras()) {
+    std::cerr << "monocled: camera '" << cam.id << "' (" << cam.options.device << ", "
+              << monocle::ToString(cam.role) << ", calibration " << cam.calibration_path
+              << "; ROS 2 " << cam.ros_namespace << "/{"
+              << (cam.corner() ? "corner_pose,pose,get_pose," : "")
+              << (cam.room_map ? "map_pose," : "")
+              << (cam.floor() ? "measure_points,calibrate_floor," : "")
+              << "camera_info,image_raw}, frame " << cam.ros_frame
+              << (cam.room_map
+                      ? "; room map " + cam.room_map_path + ", tf map -> " + cam.mount->base_frame
+                      : "")
+              << ")\n";
+  }
+  std::cerr << "monocled: serving on DDS domain " << setup.domain << " as " << service.id()
+            << " (ROS 2: ROS_DOMAIN_ID=" << setup.domain
+            << ", also /tf, /diagnostics, /monocle/cameras, /monocle/calibrations)"
+            << (setup.security_dir.empty() ? ", plain DDS (no security_dir)"
+                                           : ", DDS Security as " + setup.security_dir)
+            << "\n";
+}
+
+// Publishes the status every period until a stop signal; a recording that fails ends alone.
+void ServeUntilStopped(monocle::Service& service, const monocle::ServiceSetup& setup,
+                       const sigset_t& stop_signals, const std::string& record_path,
+                       std::unique_ptr<monocle::record::Recorder>& recorder) {
+  const auto period = setup.status_period;
+  timespec wait{static_cast<time_t>(period.count() / 1000),
+                static_cast<long>(period.count() % 1000) * 1000000L};
+  while (true) {
+    const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
+    if (signal == SIGINT || signal == SIGTERM) break;
+    service.PublishStatus();
+    if (recorder && recorder->error()) {
+      // The service goes on; only the recording ends (its file is closed with its index).
+      std::cerr << "monocled: " << recorder->error()->message << "; " << record_path
+                << " holds everything before it\n";
+      (void)recorder->Finish();
+      recorder.reset();
+    }
+  }
+  if (recorder) {
+    const monocle::Status closed = recorder->Finish();
+    std::cerr << "monocled: recording " << record_path
+              << (closed ? " closed" : " ended with an error: " + closed.error().message) << "\n";
+    recorder.reset();
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -94,129 +267,29 @@ int main(int argc, char** argv) {
   // instead of mmap'ing and unmapping them per frame (page faults on every frame).
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  std::string config_path, state_dir = DefaultStateDir();
-  std::optional<int> domain;
-  std::string security_dir;
-  std::string record_path;
-  monocle::record::RecordOptions record_options;
-  std::string replay_path;
-  monocle::ReplayPace replay_pace;
-  bool replay_rate_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (a == "--print-config") {
-      std::cout << monocle::EmbeddedDefaultConfig();
-      return 0;
-    } else if (a == "--config" && has_value) {
-      config_path = argv[++i];
-    } else if (a == "--security" && has_value) {
-      security_dir = argv[++i];
-    } else if (a == "--state-dir" && has_value) {
-      state_dir = argv[++i];
-    } else if (a == "--domain" && has_value) {
-      char* end = nullptr;
-      const long d = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || d < 0 || d > 232) return Usage("--domain must be 0..232");
-      domain = static_cast<int>(d);
-    } else if (a == "--record" && has_value) {
-      record_path = argv[++i];
-    } else if (a == "--replay" && has_value) {
-      replay_path = argv[++i];
-    } else if (a == "--replay-rate" && has_value) {
-      char* end = nullptr;
-      const double rate = std::strtod(argv[++i], &end);
-      if (*end != '\0' || !(rate >= 0) || rate > 1000)
-        return Usage("--replay-rate must be 0 (no waiting) or a factor up to 1000, e.g. 1 or 0.5");
-      replay_pace.rate = rate;
-      replay_rate_given = true;
-    } else if (a == "--replay-loop") {
-      replay_pace.loop = true;
-    } else if (a == "--record-zstd") {
-      record_options.zstd = true;
-    } else if (a == "--record-frames" && has_value) {
-      const std::string mode = argv[++i];
-      char* end = nullptr;
-      const long n = std::strtol(mode.c_str(), &end, 10);
-      if (mode == "none") {
-        record_options.frames_every = 0;
-      } else if (mode == "every") {
-        record_options.frames_every = 1;
-      } else if (!mode.empty() && *end == '\0' && n >= 1 && n <= 1000000) {
-        record_options.frames_every = static_cast<int>(n);
-      } else {
-        return Usage("--record-frames must be none, every or a whole number N >= 1");
-      }
-    } else if (a == "--config" || a == "--state-dir" || a == "--domain" || a == "--security" ||
-               a == "--record" || a == "--record-frames" || a == "--replay" ||
-               a == "--replay-rate") {
-      return Usage(a + " needs a value");
-    } else {
-      return Usage("unknown option " + a);
-    }
-  }
-
-  if (!replay_path.empty() && !config_path.empty())
-    return Usage("--replay serves the recording's own cameras and calibrations: not with --config");
-  if (replay_path.empty() && (replay_rate_given || replay_pace.loop))
-    return Usage("--replay-rate and --replay-loop need --replay FILE.mcap");
-  monocle::Result<monocle::ServiceSetup> setup = monocle::MakeError(monocle::ErrorCode::kIo, "");
-  if (!replay_path.empty()) {
-    setup = monocle::ReplaySetup(replay_path, state_dir, replay_pace);
-  } else if (config_path.empty()) {
-    if (auto s = monocle::EnsureSimulatorCalibrations(state_dir); !s) {
-      std::cerr << "monocled: error: " << s.error() << "\n";
-      return 1;
-    }
-    setup = monocle::ParseServiceConfig(monocle::EmbeddedDefaultConfig(), "embedded default",
-                                        state_dir);
-  } else {
-    setup = monocle::LoadServiceConfig(config_path);
-  }
-  if (!setup) {
-    std::cerr << "monocled: error: " << setup.error() << "\n";
-    return 2;
-  }
-  if (domain) setup->domain = *domain;
-  if (!security_dir.empty()) {
-    if (auto c = monocle::dds::CheckSecurityDirectory(security_dir); !c) {
-      std::cerr << "monocled: error: --security: " << c.error() << "\n";
-      return 2;
-    }
-    setup->security_dir = security_dir;
-  }
-  if (!setup->security_dir.empty() && setup->domain > 230)
-    return Usage("a secured domain must be 0..230 (DDS Security governance)");
-
-  if (record_options.frames_every > 0 && record_path.empty()) {
-    return Usage("--record-frames needs --record FILE.mcap");
-  }
-  if (!record_path.empty() && record_options.frames_every > 0) {
-    // The recorder is an in-process subscriber of image_raw: let every frame through.
-    for (auto& cam : setup->cameras) cam.image_max_rate_hz = 1000;
-  }
+  MonocledOptions options;
+  if (const auto exit_status = ParseOptions(argc, argv, &options)) return *exit_status;
+  monocle::ServiceSetup setup;
+  if (const auto exit_status = LoadSetup(options, &setup)) return *exit_status;
   // A file size limit must end the recording with its summary, not the service.
   std::signal(SIGXFSZ, SIG_IGN);
 
   // The recorder starts before the cameras, so the recording holds every frame processed.
   std::unique_ptr<monocle::record::Recorder> recorder;
   auto start_recording = [&](monocle::Service& started) -> monocle::Status {
-    if (record_path.empty()) return monocle::Ok{};
+    if (options.record_path.empty()) return monocle::Ok{};
     for (const auto& cam : started.served_cameras())
-      record_options.namespaces.push_back(cam.ros_namespace);
-    auto recording =
-        monocle::record::Recorder::Start(started.participant(), record_path, record_options);
+      options.record_options.namespaces.push_back(cam.ros_namespace);
+    auto recording = monocle::record::Recorder::Start(started.participant(), options.record_path,
+                                                      options.record_options);
     if (!recording) {
       return monocle::MakeError(recording.error().code, "--record: " + recording.error().message);
     }
     recorder = std::move(*recording);
-    std::cerr << "monocled: recording to " << record_path << "\n";
+    std::cerr << "monocled: recording to " << options.record_path << "\n";
     return monocle::Ok{};
   };
-  auto service = monocle::Service::Start(*setup, StopRequested, start_recording);
+  auto service = monocle::Service::Start(setup, StopRequested, start_recording);
   if (!service && service.error().code == monocle::ErrorCode::kCancelled) {
     std::cerr << "monocled: stopped during start-up\n";
     return 0;
@@ -225,47 +298,8 @@ int main(int argc, char** argv) {
     std::cerr << "monocled: error: " << service.error() << "\n";
     return 1;
   }
-  // Refused cameras were logged by Start with the reason; these are the ones served.
-  for (const auto& cam : service->get()->served_cameras()) {
-    std::cerr << "monocled: camera '" << cam.id << "' (" << cam.options.device << ", "
-              << monocle::ToString(cam.role) << ", calibration " << cam.calibration_path
-              << "; ROS 2 " << cam.ros_namespace << "/{"
-              << (cam.corner() ? "corner_pose,pose,get_pose," : "")
-              << (cam.room_map ? "map_pose," : "")
-              << (cam.floor() ? "measure_points,calibrate_floor," : "")
-              << "camera_info,image_raw}, frame " << cam.ros_frame
-              << (cam.room_map
-                      ? "; room map " + cam.room_map_path + ", tf map -> " + cam.mount->base_frame
-                      : "")
-              << ")\n";
-  }
-  std::cerr << "monocled: serving on DDS domain " << setup->domain << " as " << service->get()->id()
-            << " (ROS 2: ROS_DOMAIN_ID=" << setup->domain
-            << ", also /tf, /diagnostics, /monocle/cameras, /monocle/calibrations)"
-            << (setup->security_dir.empty() ? ", plain DDS (no security_dir)"
-                                            : ", DDS Security as " + setup->security_dir)
-            << "\n";
-  const auto period = setup->status_period;
-  timespec wait{static_cast<time_t>(period.count() / 1000),
-                static_cast<long>(period.count() % 1000) * 1000000L};
-  while (true) {
-    const int signal = sigtimedwait(&stop_signals, nullptr, &wait);
-    if (signal == SIGINT || signal == SIGTERM) break;
-    (*service)->PublishStatus();
-    if (recorder && recorder->error()) {
-      // The service goes on; only the recording ends (its file is closed with its index).
-      std::cerr << "monocled: " << recorder->error()->message << "; " << record_path
-                << " holds everything before it\n";
-      (void)recorder->Finish();
-      recorder.reset();
-    }
-  }
-  if (recorder) {
-    const monocle::Status closed = recorder->Finish();
-    std::cerr << "monocled: recording " << record_path
-              << (closed ? " closed" : " ended with an error: " + closed.error().message) << "\n";
-    recorder.reset();
-  }
+  LogServing(**service, setup);
+  ServeUntilStopped(**service, setup, stop_signals, options.record_path, recorder);
   (*service)->Stop();
   std::cerr << "monocled: stopped\n";
   return 0;

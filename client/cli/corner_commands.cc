@@ -58,8 +58,8 @@ radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright 
   --mount MOUNT.pbtxt      the camera rides a robot standing level (a CameraMount, e.g.
                            idl/examples/camera_mount.pbtxt): the mount fixes the camera's tilt
                            and swing, which are combined with the image's. The weakly
-                           determined views gain most (README "On a robot: the mount's
-                           level"). A pose that tips the robot more than 1 degree from level,
+                           determined views gain most (client/cli/GUIDE.md, "On a robot:
+                           the mount's level"). A pose that tips the robot more than 1 degree from level,
                            and more than its own 1 sigma allows, is SUSPECT and left as
                            solved. JSON adds level_error_deg (how far the pose as solved
                            tipped the robot) and level_sigma_deg

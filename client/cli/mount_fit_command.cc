@@ -35,7 +35,7 @@ taken while the robot stood on the floor, at several places and headings. The mo
 rotation is right, and most at a tenth of a degree; a mount read off a drawing is rarely
 better than half a degree. Each image's pose says where the base's up axis points under the
 given mount; a mount error turns with the robot's heading and the floor's slope does not,
-so poses facing several ways, at corners on different walls, separate the two (README
+so poses facing several ways, at corners on different walls, separate the two (client/cli/GUIDE.md,
 "Fitting the mount's level").
 
   --calibration CAL.pbtxt  the camera's intrinsics (and corner { ceiling_distance })

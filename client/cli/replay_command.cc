@@ -72,137 +72,177 @@ bool IsCorner(const RecordedCamera& cam) {
   return cam.role == "corner" || cam.role == "corner+floor" || cam.role.empty();
 }
 
-}  // namespace
+// What the command line asks of a replay, checked once.
+struct ReplayOptions {
+  std::string path;
+  double rate = 0;
+  std::optional<std::string> only_camera;
+  bool json = false;
+  CornerPipelineOptions pipeline;  // mount, level, map, tracking
+  std::optional<double> ceiling_override;
+  std::optional<CameraCalibration> calibration_override;
+};
 
-int ReplayCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kReplayHelp;
-    return kExitOk;
-  }
+// kExitOk with `out` filled, or the exit status of the mistake (already reported).
+int ParseReplayOptions(const std::vector<std::string>& argv, ReplayOptions* out) {
   auto args = Args::Parse(argv, {{"--camera", "--rate", "--calibration", "--ceiling-distance",
                                   "--detect-every", "--map", "--mount", "--prior", "--level-sigma"},
                                  {"--json"}});
   if (!args) return Fail(args.error(), kExitUsage);
   if (args->positionals().size() != 1)
     return Fail("give exactly one FILE.mcap (see --help)", kExitUsage);
-  const std::string path = args->positionals()[0];
+  out->path = args->positionals()[0];
   const auto rate = args->GetDouble("--rate", 0);
   if (!rate || !(*rate >= 0) || *rate > 1000)
     return Fail("--rate must be 0 (as fast as possible) or a factor up to 1000", kExitUsage);
+  out->rate = *rate;
   const auto detect_every = DetectEvery(*args, "frames");
   if (!detect_every) return Fail(detect_every.error(), kExitUsage);
   const auto level_sigma_rad = LevelSigmaRad(*args);
   if (!level_sigma_rad) return Fail(level_sigma_rad.error(), kExitUsage);
   auto setup = CornerSetupFromArgs(*args, *level_sigma_rad);
   if (!setup) return Fail(setup.error(), UsageOrFailure(setup.error()));
-  setup->tracking.detect_every_n_frames = *detect_every;
-  std::optional<double> ceiling_override;
+  out->pipeline = std::move(*setup);
+  out->pipeline.tracking.detect_every_n_frames = *detect_every;
   if (args->Get("--ceiling-distance")) {
     const auto z = args->GetDouble("--ceiling-distance", 0);
     if (!z || !(*z > 0))
       return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
-    ceiling_override = *z;
+    out->ceiling_override = *z;
   }
-  std::optional<CameraCalibration> calibration_override;
   if (const auto cal = args->Get("--calibration")) {
     auto loaded = LoadCalibrationFile(*cal);
     if (!loaded) return Fail(loaded.error(), kExitFailure);
-    calibration_override = *loaded;
+    out->calibration_override = *loaded;
   }
+  out->only_camera = args->Get("--camera");
+  out->json = args->Has("--json");
+  return kExitOk;
+}
 
-  auto cameras = ListRecordedCameras(path);
+// The recording's corner cameras to replay (only --camera's if given), or the exit status.
+int SelectCameras(const ReplayOptions& o, std::vector<ReplayedCamera>* replayed) {
+  auto cameras = ListRecordedCameras(o.path);
   if (!cameras) return Fail(cameras.error(), kExitFailure);
-  const auto only = args->Get("--camera");
-  std::vector<ReplayedCamera> replayed;
   std::string seen;
   for (const auto& cam : *cameras) {
     seen += (seen.empty() ? "" : ", ") + cam.id + " (" + (cam.role.empty() ? "?" : cam.role) +
             ", " + std::to_string(cam.frames) + " frames)";
-    if (only && cam.id != *only) continue;
+    if (o.only_camera && cam.id != *o.only_camera) continue;
     if (!IsCorner(cam)) {
-      if (only) {
+      if (o.only_camera) {
         return Fail("camera '" + cam.id +
                         "' is a floor camera: its frames have no pose to replay; `monocled "
                         "--replay " +
-                        path + "` serves its point queries",
+                        o.path + "` serves its point queries",
                     kExitUsage);
       }
       continue;
     }
     ReplayedCamera r;
     r.recorded = cam;
-    replayed.push_back(std::move(r));
+    replayed->push_back(std::move(r));
   }
-  if (replayed.empty()) {
-    return Fail(path + ": " +
-                    (only ? "no camera '" + *only + "' with frames"
-                          : std::string("no corner camera with frames")) +
+  if (replayed->empty()) {
+    return Fail(o.path + ": " +
+                    (o.only_camera ? "no camera '" + *o.only_camera + "' with frames"
+                                   : std::string("no corner camera with frames")) +
                     (seen.empty() ? " (the recording has no frames: record with --frames "
                                     "every or N)"
                                   : " (the recording has: " + seen + ")"),
                 kExitFailure);
   }
-  uint64_t total = 0;
-  for (auto& r : replayed) {
-    CameraCalibration calibration;
-    if (calibration_override) {
-      calibration = *calibration_override;
-    } else {
-      auto parsed = ParseCalibration(r.recorded.calibration_text,
-                                     path + " (" + r.recorded.id + "'s recorded calibration)");
-      if (r.recorded.calibration_text.empty()) {
-        return Fail(path + ": camera '" + r.recorded.id +
-                        "' has no calibration in the recording; give --calibration CAL.pbtxt",
-                    kExitFailure);
-      }
-      if (!parsed) return Fail(parsed.error(), kExitFailure);
-      calibration = *parsed;
-    }
-    const double zc = setup->ceiling_distance_m.value_or(ceiling_override.value_or(
-        calibration_override
-            ? calibration.ceiling_distance_m.value_or(0)
-            : r.recorded.ceiling_distance_m.value_or(calibration.ceiling_distance_m.value_or(0))));
-    if (!(zc > 0)) {
-      return Fail("camera '" + r.recorded.id +
-                      "': the camera-to-ceiling distance is unknown; give --ceiling-distance Z "
-                      "(metres)",
-                  kExitUsage);
-    }
-    CornerPipelineOptions options = *setup;
-    options.ceiling_distance_m = zc;
-    r.pipeline.emplace(std::move(options));
-    r.calibration = calibration;
-    auto source = RecordingSource::Open(path, r.recorded.ros_namespace, ReplayPace{*rate, false});
-    if (!source) return Fail(source.error(), kExitFailure);
-    r.source = std::move(*source);
-    total += r.recorded.frames;
-  }
+  return kExitOk;
+}
 
-  // Next frame of a camera, waiting as long as its pace asks; nullopt at its end.
-  auto advance = [](ReplayedCamera& r) -> Status {
-    r.next.reset();
-    while (true) {
-      auto frame = r.source->Next(std::chrono::milliseconds(1000));
-      if (frame) {
-        r.next = std::move(*frame);
-        return Ok{};
-      }
-      if (r.source->ended()) return Ok{};
-      if (frame.error().code != ErrorCode::kNotFound) return frame.error();
+// Each camera's calibration, pipeline and frames; kExitOk or the exit status.
+int OpenCamera(const ReplayOptions& o, ReplayedCamera* r) {
+  CameraCalibration calibration;
+  if (o.calibration_override) {
+    calibration = *o.calibration_override;
+  } else {
+    if (r->recorded.calibration_text.empty()) {
+      return Fail(o.path + ": camera '" + r->recorded.id +
+                      "' has no calibration in the recording; give --calibration CAL.pbtxt",
+                  kExitFailure);
     }
-  };
-  for (auto& r : replayed) {
-    if (Status s = advance(r); !s) return Fail(s.error(), kExitFailure);
+    auto parsed = ParseCalibration(r->recorded.calibration_text,
+                                   o.path + " (" + r->recorded.id + "'s recorded calibration)");
+    if (!parsed) return Fail(parsed.error(), kExitFailure);
+    calibration = *parsed;
   }
-  const bool json = args->Has("--json");
+  // A map's ceiling distance first, then --ceiling-distance, then what the service used.
+  const double recorded_zc =
+      o.calibration_override
+          ? calibration.ceiling_distance_m.value_or(0)
+          : r->recorded.ceiling_distance_m.value_or(calibration.ceiling_distance_m.value_or(0));
+  const double zc =
+      o.pipeline.ceiling_distance_m.value_or(o.ceiling_override.value_or(recorded_zc));
+  if (!(zc > 0)) {
+    return Fail("camera '" + r->recorded.id +
+                    "': the camera-to-ceiling distance is unknown; give --ceiling-distance Z "
+                    "(metres)",
+                kExitUsage);
+  }
+  CornerPipelineOptions options = o.pipeline;
+  options.ceiling_distance_m = zc;
+  r->pipeline.emplace(std::move(options));
+  r->calibration = calibration;
+  auto source = RecordingSource::Open(o.path, r->recorded.ros_namespace, ReplayPace{o.rate, false});
+  if (!source) return Fail(source.error(), kExitFailure);
+  r->source = std::move(*source);
+  return kExitOk;
+}
+
+// Next frame of a camera, waiting as long as its pace asks; none at its end.
+Status Advance(ReplayedCamera& r) {
+  r.next.reset();
+  while (true) {
+    auto frame = r.source->Next(std::chrono::milliseconds(1000));
+    if (frame) {
+      r.next = std::move(*frame);
+      return Ok{};
+    }
+    if (r.source->ended()) return Ok{};
+    if (frame.error().code != ErrorCode::kNotFound) return frame.error();
+  }
+}
+
+void PrintPose(const ReplayOptions& o, const ReplayedCamera& camera, const Frame& frame,
+               const CornerPipelineResult& located) {
+  const Result<CornerLocation>& result = located.corner;
+  if (o.json) {
+    proto::LivePoseOutput out;
+    out.set_camera(camera.recorded.id);
+    out.set_sequence(frame.sequence);
+    out.set_capture_time_ns(frame.capture_time_ns);
+    out.set_time_source("recorded");
+    *out.mutable_pose() = ToCornerOutput("", result);
+    if (located.map) *out.mutable_pose()->mutable_map() = ToMapLocationOutput(*located.map);
+    std::cout << ToJson(out) << std::endl;
+    return;
+  }
+  const std::string label = camera.recorded.id + " frame " + std::to_string(frame.sequence);
+  if (!result) {
+    std::cout << label << "  error: " << result.error().message << std::endl;
+    return;
+  }
+  std::cout << CornerResultLine(label, *result) << std::endl;
+  if (located.map) std::cout << "  " << MapLocationLine(*located.map) << std::endl;
+}
+
+// Every camera's frames through its pipeline, in capture-time order.
+int Replay(const ReplayOptions& o, std::vector<ReplayedCamera>& replayed, uint64_t total) {
+  for (auto& r : replayed) {
+    if (Status s = Advance(r); !s) return Fail(s.error(), kExitFailure);
+  }
   // On a terminal the poses themselves show the progress: a line only when they go to a file.
   ProgressLine progress("replaying frames", total,
                         isatty(STDERR_FILENO) == 1 && isatty(STDOUT_FILENO) == 0);
   uint64_t done = 0;
   bool any_failed = false;
   while (true) {
-    // The camera whose next frame was captured first.
-    ReplayedCamera* first = nullptr;
+    ReplayedCamera* first = nullptr;  // the camera whose next frame was captured first
     for (auto& r : replayed) {
       if (r.next && (first == nullptr || r.next->capture_time_ns < first->next->capture_time_ns))
         first = &r;
@@ -210,34 +250,35 @@ int ReplayCommand(const std::vector<std::string>& argv) {
     if (first == nullptr) break;
     const Frame frame = std::move(*first->next);
     const CornerPipelineResult located = first->pipeline->Process(frame.grey, first->calibration);
-    const Result<CornerLocation>& result = located.corner;
-    any_failed |= !result.ok();
-    if (json) {
-      proto::LivePoseOutput out;
-      out.set_camera(first->recorded.id);
-      out.set_sequence(frame.sequence);
-      out.set_capture_time_ns(frame.capture_time_ns);
-      out.set_time_source("recorded");
-      *out.mutable_pose() = ToCornerOutput("", result);
-      if (located.map) *out.mutable_pose()->mutable_map() = ToMapLocationOutput(*located.map);
-      std::cout << ToJson(out) << std::endl;
-    } else {
-      const std::string label = first->recorded.id + " frame " + std::to_string(frame.sequence);
-      if (result) {
-        std::cout << CornerResultLine(label, *result) << std::endl;
-        if (located.map) std::cout << "  " << MapLocationLine(*located.map) << std::endl;
-      } else {
-        std::cout << label << "  error: " << result.error().message << std::endl;
-      }
-    }
+    any_failed |= !located.corner.ok();
+    PrintPose(o, *first, frame, located);
     progress.Update(++done);
-    if (Status s = advance(*first); !s) {
+    if (Status s = Advance(*first); !s) {
       progress.Done();
       return Fail(s.error(), kExitFailure);
     }
   }
   progress.Done();
   return any_failed ? kExitFailure : kExitOk;
+}
+
+}  // namespace
+
+int ReplayCommand(const std::vector<std::string>& argv) {
+  if (WantsHelp(argv)) {
+    std::cout << kReplayHelp;
+    return kExitOk;
+  }
+  ReplayOptions options;
+  if (int status = ParseReplayOptions(argv, &options); status != kExitOk) return status;
+  std::vector<ReplayedCamera> replayed;
+  if (int status = SelectCameras(options, &replayed); status != kExitOk) return status;
+  uint64_t total = 0;
+  for (auto& r : replayed) {
+    if (int status = OpenCamera(options, &r); status != kExitOk) return status;
+    total += r.recorded.frames;
+  }
+  return Replay(options, replayed, total);
 }
 
 }  // namespace monocle::cli

@@ -41,7 +41,7 @@ struct CornerDetectorOptions {
   // pixels (full resolution). The trace only guides the locator's second pass, which
   // measures the edge again every 2 px along the line fitted to the trace: every 4 px was as
   // accurate as every 2 over ten realistic seeds and takes a tenth less time per frame
-  // (README, "A fourth sitting").
+  // (bench/corner_speed_notes.md, "A fourth sitting").
   int trace_spacing_px = 4;
 };
 

@@ -631,7 +631,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   // Where the pose is imprecise enough for that to matter, the shift the shading predicts is
   // removed, and counted in the covariance too: each stretch's slopes are read from noisy
   // pixels, so where there was no bias the shift is the correction's own noise, and where
-  // there was one it is larger (README, "Corner pose", "The shading beside a faint edge").
+  // there was one it is larger (client/cli/GUIDE.md, "The shading beside a faint edge").
   // (Edges measured with the wider filter always: their bias is larger.)
   const double horizontal_m = std::hypot(out.pose.x_m, out.pose.y_m);
   if (wide_filter[0] || wide_filter[1] || wide_filter[2] ||

@@ -113,7 +113,7 @@ struct CornerQualityOptions {
   // the covariance, CornerLocation::shading_shift) where the horizontal 1 sigma without it is
   // over this fraction of the distance. Below 0.4 % a 5 % error would be 12 sigma, and on the
   // better determined views the correction's own noise is most of what it changes; reading it
-  // on every frame would cost a third of a realistic frame's time (README, "Corner pose").
+  // on every frame would cost a third of a realistic frame's time (tests/accuracy/README.md).
   double shading_check_above_relative_sigma = 0.004;
   // Where the horizontal 1 sigma is over this fraction of the distance, the blurred edges are
   // measured again along the fitted lines with the wider filter
@@ -121,8 +121,9 @@ struct CornerQualityOptions {
   // them (CornerLocation::edges_measured_again). On the 1778 weakly determined views of 120
   // realistic seeds the errors fell 13 % where the reported 1 sigma is 0.6-0.8 % and 8 % at
   // 0.8-1.2 %, and by no significant amount at 0.4-0.6 %, where measuring again would cost
-  // as much: a third of a measurement, on a quarter of realistic frames (README, "Corner
-  // pose"). Infinity: never.
+  // as much: a third of a measurement, on a quarter of realistic frames
+  // (tests/accuracy/corner_pose_notes.md, "Weak views measured again, with a wider filter").
+  // Infinity: never.
   double remeasure_above_relative_sigma = 0.006;
   // Three surfaces meet at a corner, so near it the largest of the three edges' steps equals
   // the other two combined. Measured it comes out smaller (down to -60 % on realistic

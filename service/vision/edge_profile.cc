@@ -589,7 +589,7 @@ double EdgeDerivativeSigmaPx(double blur_sigma_px) {
   // the bound for a filter f, blur b and s^2 = b^2 + f^2; 1.73x at f = b, 1.27x at 1.6 b,
   // 1.22x at 1.9 b, least, 1.20x, at sqrt(5) b) and reaches further into each surface, where
   // a shading slope on one side moves the peak by (slope difference) * s^2 / step. 1.6x is
-  // the measured balance where the shading is not read (README, "The derivative filter's
+  // the measured balance where the shading is not read (client/cli/GUIDE.md, "The derivative filter's
   // width").
   constexpr double kWidthOverBlur = 1.6;
   return blur_sigma_px > kSharpBelowPx ? kWidthOverBlur * blur_sigma_px : 0.0;

@@ -68,7 +68,7 @@ double EdgeBlurSigmaPx(const std::vector<EdgePointSample>& samples);
 // The derivative filter's sigma for measuring an edge of this blur (pixels): 0 (the default
 // filter) for an edge blurred by 0.8 px or less, else 1.6x the blur: wider than the filter
 // matched to the blur, which detects a blurred step in noise best but locates it less
-// precisely (README "Corner pose", "The derivative filter's width").
+// precisely (client/cli/GUIDE.md, "The derivative filter's width").
 double EdgeDerivativeSigmaPx(double blur_sigma_px);
 
 // The filter for a weakly determined view, whose edges are measured again and the shading

@@ -7,7 +7,7 @@
 //   short edges. The detector's constants were set on seeds 7 and 8 only; the seeds here
 //   were never looked at while tuning.
 // Each test checks the product goals and, tighter, regression gates about 2-3x above the
-// values measured when the gates were set (README, "Accuracy").
+// values measured when the gates were set (tests/accuracy/README.md).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -401,8 +401,8 @@ TEST(CornerAccuracyTest, ClutterAndUnevenLighting) {
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.0005);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.012);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.008);
-  // Known miss (README): a door frame's corner makes a Y the pose accepts, 23 % off and not
-  // flagged. One at most.
+  // Known miss (tests/accuracy/README.md): a door frame's corner makes a Y the pose accepts, 23 %
+  // off and not flagged. One at most.
   EXPECT_LE(s.unflagged_large, 1);
 }
 
@@ -455,9 +455,9 @@ void ExpectRealisticGoals(const Stats& s) {
 
 // The same views from a camera on a robot standing level to 0.1 and 0.3 degrees (1 sigma
 // about each horizontal axis; the floor tipped by a fresh draw of it for each view): the
-// mount's level fixes what a weakly determined view leaves open, its tilt (README, "The
-// mount's level, without a map"). At 0.1 degrees issue 11's goals are met in full, p95 too;
-// at 0.3 (the room map's default) the tail gains less. In both the 1 sigma stays honest.
+// mount's level fixes what a weakly determined view leaves open, its tilt (client/cli/GUIDE.md,
+// "The mount's level, without a map"). At 0.1 degrees issue 11's goals are met in full, p95 too; at
+// 0.3 (the room map's default) the tail gains less. In both the 1 sigma stays honest.
 void ExpectLevelledGoals(const Stats& s) {
   ASSERT_EQ(s.levelled.size(), 2u);
   for (const auto& [sigma_deg, l] : s.levelled) {
@@ -500,11 +500,11 @@ TEST(CornerAccuracyTest, RealisticRooms) {
   // flagged views, 1 sigma 2-5.6 %, drew errors of 1.5-3.3 %), tilt p95 0.36 deg. Since a
   // pose flagged only as imprecise is not searched again at half resolution: median 0.115 %
   // (one flagged view crossed the middle), p95 2.58 %. Since the trace measures every 4 px:
-  // median 0.121 %, p95 2.53 %, coverage 59.9 % (ten seeds as accurate as before, README).
-  // Since each edge is weighted by its own scatter: median 0.132 %, p95 2.55 % (not flagged
-  // 0.88 -> 0.53 %), coverage 68.3 %, error / bound 1.61 -> 1.49. Since blurred edges are
-  // measured with a filter 1.6x their blur: median 0.112 %, p95 1.99 % (not flagged 0.90 %),
-  // tilt 0.017 / 0.27 deg, coverage 66.9 %, error / bound 1.23.
+  // median 0.121 %, p95 2.53 %, coverage 59.9 % (ten seeds as accurate as before;
+  // corner_pose_notes.md). Since each edge is weighted by its own scatter: median 0.132 %, p95 2.55
+  // % (not flagged 0.88 -> 0.53 %), coverage 68.3 %, error / bound 1.61 -> 1.49. Since blurred
+  // edges are measured with a filter 1.6x their blur: median 0.112 %, p95 1.99 % (not flagged 0.90
+  // %), tilt 0.017 / 0.27 deg, coverage 66.9 %, error / bound 1.23.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.035);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
@@ -529,7 +529,7 @@ TEST(CornerAccuracyTest, RealisticRoomsSecondSeed) {
 // 73 %, none more than 5 % off unflagged. The p95 gate is the goal's 1 %, and this set meets
 // it; the population sits on it rather than under it: over 4032 views of 56 fresh seeds
 // (FreshSeedsOnDemand) p95 is 0.98 % (bootstrap 95 % interval 0.91-1.11 %), over 1600001-1600016
-// 1.03 %, per set of 72 0.37-4.9 % (README, "Corner pose"). Since the shading beside the edges
+// 1.03 %, per set of 72 0.37-4.9 % (tests/accuracy/README.md). Since the shading beside the edges
 // is read on weakly determined views (2026-11-28): 72 suspect, median 0.083 %, p95 0.92 %;
 // since a Y flagged for more than imprecision gives way to the next (2026-11-28, later): 71
 // suspect, p95 0.91 % (view 63 of 1400006, a floor corner 51 % off, is now the ceiling's);
@@ -1006,8 +1006,9 @@ TEST(CornerAccuracyTest, AFaintEdgesShadingIsRemovedAndCounted) {
 // before) and the shading beside them read. The wider filter locates a faint edge more
 // precisely; the shading's correction removes most of its larger bias. Measured: RMS error
 // 0.687 -> 0.649 % of the distance (mean ln ratio -0.13 +- 0.08). Over all 1778 weak views of
-// 120 realistic seeds, errors 4 % smaller and poses more than 1 % off 412 -> 388 (README,
-// "Corner pose"). These seeds are among the 120 the filter's width was chosen on.
+// 120 realistic seeds, errors 4 % smaller and poses more than 1 % off 412 -> 388
+// (corner_pose_notes.md, "Weak views measured again, with a wider filter"). These seeds are among
+// the 120 the filter's width was chosen on.
 TEST(CornerAccuracyTest, WeakViewsMeasuredAgainWithAWiderFilterAreNearerTheTruth) {
   const std::vector<std::pair<uint64_t, std::vector<int>>> views = {
       {1200001, {13, 21, 27, 59, 60, 69}},
