@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "service/geometry/corner_pose_refinement.h"
 #include "service/geometry/undistortion_grid.h"
 #include "service/vision/corner_rays.h"
 #include "service/vision/edge_line_fit.h"

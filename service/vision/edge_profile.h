@@ -1,5 +1,6 @@
-// Edges measured across their profile, to subpixel precision: the image's noise, and the
-// steepest rise of an intensity profile across an edge, averaged along it. Used by the corner
+// Edges measured across their profile, to subpixel precision: the steepest rise of an
+// intensity profile across an edge, averaged along it (the image's noise, which an edge is
+// judged against, is image_noise.h). Used by the corner
 // detector, the locator's second pass and the tracker.
 #pragma once
 
@@ -8,24 +9,9 @@
 #include <optional>
 #include <vector>
 
+#include "service/vision/image_noise.h"
+
 namespace monocle {
-
-// Pixel noise of an image, grey levels (1 sigma): from the median absolute difference of
-// horizontally adjacent pixels, which flat surfaces dominate in a room. Never much below
-// 8-bit quantization (~0.26 for a constant image). Both estimates leave out saturated pixels
-// (>= 253 or <= 2 grey), whose noise is clipped away: a frame mostly white with glare has the
-// noise of its unclipped part (0 when nothing is unclipped).
-double EstimateNoiseSigma(const cv::Mat& grey);
-
-// The noise a measurement that averages pixels sees, grey levels (1 sigma, as white noise
-// of that sigma would give): from the median second difference of neighbouring 8-pixel
-// means along rows, so a linear shading cancels and edges are outliers. On a raw image it
-// agrees with EstimateNoiseSigma. Compression (JPEG at quality 70-90) quantizes away most
-// of the pixel-to-pixel noise but little of what averages keep: there EstimateNoiseSigma
-// reads 2-5x low (noise sigma 3 at quality 80: 1.07 against 3.4 here), and a contrast
-// against it would say an edge stands out of the noise 2-5x better than it does. This is
-// the noise reported to users and the one an edge's contrast is judged against.
-double EstimateMeasurementNoiseSigma(const cv::Mat& grey);
 
 // Subpixel edge points near predicted positions: for each (position, unit normal) the
 // intensity profile along the normal, averaged over +-3 px along the edge (so a step of a few
