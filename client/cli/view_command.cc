@@ -118,6 +118,188 @@ void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::option
   }
 }
 
+// What the command line asks of `monocle view`, checked once.
+struct ViewOptions {
+  std::string camera, out;
+  double every_s = 0, count = 1, timeout_s = 10;
+};
+
+// kExitOk with `o` filled, or the exit status of the mistake (already reported).
+int ParseViewOptions(const Args& args, ViewOptions* o) {
+  if (!args.positionals().empty())
+    return Fail("unexpected argument '" + args.positionals()[0] + "' (see --help)", kExitUsage);
+  const auto camera = args.Require("--camera");
+  if (!camera) return Fail(camera.error(), kExitUsage);
+  const auto out = args.Require("--out");
+  if (!out) return Fail(out.error(), kExitUsage);
+  const auto every_s = args.GetDouble("--every", 0);
+  if (!every_s || *every_s < 0 || *every_s > 86400)
+    return Fail("--every must be 0..86400 seconds", kExitUsage);
+  const auto count = args.GetDouble("--count", *every_s > 0 ? 1e18 : 1);
+  if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
+  const auto timeout_s = args.GetDouble("--timeout", 10);
+  if (!timeout_s || !(*timeout_s > 0)) return Fail("--timeout must be > 0 seconds", kExitUsage);
+  if (auto ext = std::filesystem::path(*out).extension().string(); !CanWriteImageExtension(ext)) {
+    return Fail(
+        "--out " + *out + ": give an image file name ending .png, .jpg or .pgm, e.g. live.png",
+        kExitUsage);
+  }
+  *o = ViewOptions{*camera, *out, *every_s, *count, *timeout_s};
+  return kExitOk;
+}
+
+// The camera as the service describes it: its status, its published calibration and that
+// calibration file's own values.
+struct ViewedCamera {
+  CameraStatus status;
+  Calibration calibration;
+  CameraCalibration file;
+  bool corner() const { return status.role != "floor"; }
+};
+
+int FindCamera(Client& client, const Args& args, const std::string& name, ViewedCamera* out) {
+  auto cameras = client.status();
+  if (!cameras) return Fail(cameras.error());
+  std::optional<CameraStatus> cam;
+  std::string known;
+  for (const auto& c : *cameras) {
+    known += (known.empty() ? "" : ", ") + c.camera_id;
+    if (c.camera_id == name) cam = c;
+  }
+  if (!cam) {
+    return Fail("no camera '" + name + "' on DDS domain " +
+                    std::to_string(static_cast<int>(*args.GetDouble("--domain", 0))) +
+                    (known.empty() ? " (no service answered)" : " (cameras: " + known + ")"),
+                kExitFailure);
+  }
+  auto calibrations = client.calibrations();
+  if (!calibrations) return Fail(calibrations.error());
+  std::optional<Calibration> calibration;
+  for (const auto& c : *calibrations)
+    if (c.camera_id == name) calibration = c;
+  if (!calibration)
+    return Fail("the service published no calibration of '" + name + "'", kExitFailure);
+  // The calibration file's own text, as the service published it: intrinsics and floor pose.
+  auto file = ParseCalibration(calibration->text, "the service's calibration of '" + name + "'");
+  if (!file) return Fail(file.error(), kExitFailure);
+  *out = ViewedCamera{*cam, *calibration, *file};
+  return kExitOk;
+}
+
+// Poses of the camera, kept for a moment to meet their frames. A frame's pose can be met
+// only if it was published after this subscription began to hear the service: the service
+// publishes poses in frame order, so that holds for every frame from the first pose heard
+// on. An earlier frame (the image reader may match first) would wait for a pose it can
+// never hear and be taken for one the service skipped.
+class RecentPoses {
+ public:
+  void Add(const Pose& p) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!first_stamp_ns_) first_stamp_ns_ = p.capture_time_ns;
+    poses_.push_back(p);
+    if (poses_.size() > 200) poses_.pop_front();
+  }
+  bool CanArrive(int64_t frame_stamp_ns) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return first_stamp_ns_ && frame_stamp_ns >= *first_stamp_ns_;
+  }
+  // The frame's pose, published once the frame is processed: waited for until a pose of a
+  // later frame shows that the service skipped this one (poses come in frame order), or 5 s
+  // (a busy or slow service, e.g. a sanitizer build, takes more than a frame time).
+  std::optional<Pose> WaitFor(int64_t frame_stamp_ns) const {
+    for (int i = 0; i < 250; ++i) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        bool skipped = false;
+        for (const auto& p : poses_) {
+          if (p.capture_time_ns == frame_stamp_ns) return p;
+          skipped |= p.capture_time_ns > frame_stamp_ns;
+        }
+        if (skipped) return std::nullopt;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return std::nullopt;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::deque<Pose> poses_;
+  std::optional<int64_t> first_stamp_ns_;
+};
+
+using ImageReader = dds::Endpoint<sensor_msgs_msg_dds__Image_>;
+
+// The first frame after `next_due` (for a corner camera, one whose pose can be heard), or the
+// newest frame before that as `unpaired` if no pose comes; neither when the time is up.
+Status TakeFrame(ImageReader& images, const ViewOptions& o, bool corner, const RecentPoses& poses,
+                 std::chrono::steady_clock::time_point next_due, std::optional<LiveFrame>* frame,
+                 std::optional<LiveFrame>* unpaired) {
+  const auto give_up = std::max(std::chrono::steady_clock::now(), next_due) +
+                       std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double>(o.timeout_s));
+  while (!*frame && !g_stop && std::chrono::steady_clock::now() < give_up) {
+    auto taken = images.Take<LiveFrame>(std::chrono::milliseconds(200), [](const auto& s) {
+      LiveFrame f;
+      if (std::string(s.encoding ? s.encoding : "") == "mono8" && s.width > 0 &&
+          static_cast<uint64_t>(s.step) * s.height == s.data._length && s.step >= s.width) {
+        f.grey = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_8UC1,
+                         s.data._buffer, s.step)
+                     .clone();
+      }
+      f.stamp_ns = int64_t{s.header.stamp.sec} * 1000000000 + s.header.stamp.nanosec;
+      return f;
+    });
+    if (!taken) return taken.error();
+    if (std::chrono::steady_clock::now() < next_due) continue;
+    for (auto& f : *taken) {
+      if (f.grey.empty()) continue;
+      const bool pose_can_arrive = !corner || poses.CanArrive(f.stamp_ns);
+      (pose_can_arrive ? *frame : *unpaired) = std::move(f);
+    }
+  }
+  return Ok{};
+}
+
+// The frame with what the service measured in it drawn on it.
+cv::Mat DrawPicture(const ViewedCamera& cam, const LiveFrame& frame, const RecentPoses& poses,
+                    bool no_pose_heard) {
+  cv::Mat picture;
+  cv::cvtColor(frame.grey, picture, cv::COLOR_GRAY2BGR);
+  const CameraIntrinsics& k = cam.file.intrinsics;
+  if (cam.corner()) {
+    const std::optional<Pose> pose = no_pose_heard ? std::nullopt : poses.WaitFor(frame.stamp_ns);
+    DrawCornerView(picture, k, pose,
+                   no_pose_heard ? "no pose heard from the service within --timeout"
+                                 : "the service skipped it while busy");
+  } else if (cam.file.floor) {
+    const FloorPose& floor = cam.file.floor->pose;
+    DrawFloorFrame(picture, k, floor);
+    std::ostringstream caption;
+    caption << std::fixed << std::setprecision(3) << "floor: h " << floor.height_m << " m  pitch "
+            << std::setprecision(2) << floor.pitch_rad * kDeg << " deg  (rev "
+            << cam.calibration.revision << ")";
+    PutText(picture, caption.str(), {12, 32}, 0.8, cv::Scalar(0, 255, 255));
+  } else {
+    PutText(picture, "floor camera without a floor calibration: `monocle floor calibrate`",
+            {12, 32}, 0.7, cv::Scalar(0, 0, 255));
+  }
+  std::ostringstream stamp;
+  stamp << cam.status.camera_id << "  frame at " << frame.stamp_ns << " ns";
+  PutText(picture, stamp.str(), {12, picture.rows - 40}, 0.5, cv::Scalar(255, 255, 255));
+  return picture;
+}
+
+// Replaced in one step (rename), so a viewer polling the file never reads half a picture.
+Status SavePicture(const std::string& out, const cv::Mat& picture) {
+  const std::string partial = out + ".partial" + std::filesystem::path(out).extension().string();
+  if (Status s = WriteImage(partial, picture); !s) return s;
+  std::error_code ec;
+  std::filesystem::rename(partial, out, ec);
+  if (ec) return MakeError(ErrorCode::kIo, "cannot write " + out + ": " + ec.message());
+  return Ok{};
+}
+
 }  // namespace
 
 int ViewCommand(const std::vector<std::string>& argv) {
@@ -129,74 +311,17 @@ int ViewCommand(const std::vector<std::string>& argv) {
       argv,
       {{"--camera", "--out", "--every", "--count", "--domain", "--timeout", "--security"}, {}});
   if (!args) return Fail(args.error(), kExitUsage);
-  if (!args->positionals().empty())
-    return Fail("unexpected argument '" + args->positionals()[0] + "' (see --help)", kExitUsage);
-  const auto camera = args->Require("--camera");
-  if (!camera) return Fail(camera.error(), kExitUsage);
-  const auto out = args->Require("--out");
-  if (!out) return Fail(out.error(), kExitUsage);
-  const auto every_s = args->GetDouble("--every", 0);
-  if (!every_s || *every_s < 0 || *every_s > 86400)
-    return Fail("--every must be 0..86400 seconds", kExitUsage);
-  const auto count = args->GetDouble("--count", *every_s > 0 ? 1e18 : 1);
-  if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
-  const auto timeout_s = args->GetDouble("--timeout", 10);
-  if (!timeout_s || !(*timeout_s > 0)) return Fail("--timeout must be > 0 seconds", kExitUsage);
-  if (auto ext = std::filesystem::path(*out).extension().string(); !CanWriteImageExtension(ext)) {
-    return Fail(
-        "--out " + *out + ": give an image file name ending .png, .jpg or .pgm, e.g. live.png",
-        kExitUsage);
-  }
-
+  ViewOptions o;
+  if (int status = ParseViewOptions(*args, &o); status != kExitOk) return status;
   int status = kExitOk;
   auto client = OpenClient(*args, &status);
   if (!client) return status;
-  // Which camera, where its topics are, and how it is calibrated.
-  auto cameras = client->status();
-  if (!cameras) return Fail(cameras.error());
-  std::optional<CameraStatus> cam;
-  std::string known;
-  for (const auto& c : *cameras) {
-    known += (known.empty() ? "" : ", ") + c.camera_id;
-    if (c.camera_id == *camera) cam = c;
-  }
-  if (!cam) {
-    return Fail("no camera '" + *camera + "' on DDS domain " +
-                    std::to_string(static_cast<int>(*args->GetDouble("--domain", 0))) +
-                    (known.empty() ? " (no service answered)" : " (cameras: " + known + ")"),
-                kExitFailure);
-  }
-  auto calibrations = client->calibrations();
-  if (!calibrations) return Fail(calibrations.error());
-  std::optional<Calibration> calibration;
-  for (const auto& c : *calibrations)
-    if (c.camera_id == *camera) calibration = c;
-  if (!calibration)
-    return Fail("the service published no calibration of '" + *camera + "'", kExitFailure);
-  // The calibration file's own text, as the service published it: intrinsics and floor pose.
-  auto file = ParseCalibration(calibration->text, "the service's calibration of '" + *camera + "'");
-  if (!file) return Fail(file.error(), kExitFailure);
-  const CameraIntrinsics k = file->intrinsics;
-  const bool corner = cam->role != "floor";
-
-  // Poses of this camera, kept for a moment to meet their frames. A frame's pose can be met
-  // only if it was published after this subscription began to hear the service: the service
-  // publishes poses in frame order, so that holds for every frame from the first pose heard
-  // on. An earlier frame (the image reader may match first) would wait for a pose it can
-  // never hear and be taken for one the service skipped.
-  std::mutex mutex;
-  std::deque<Pose> poses;
-  std::optional<int64_t> first_pose_stamp_ns;
+  ViewedCamera cam;
+  if (int found = FindCamera(*client, *args, o.camera, &cam); found != kExitOk) return found;
+  RecentPoses poses;
   std::optional<Subscription> subscription;
-  if (corner) {
-    auto sub = client->subscribe_poses(
-        [&](const Pose& p) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!first_pose_stamp_ns) first_pose_stamp_ns = p.capture_time_ns;
-          poses.push_back(p);
-          if (poses.size() > 200) poses.pop_front();
-        },
-        *camera);
+  if (cam.corner()) {
+    auto sub = client->subscribe_poses([&](const Pose& p) { poses.Add(p); }, o.camera);
     if (!sub) return Fail(sub.error());
     subscription.emplace(std::move(*sub));
   }
@@ -207,106 +332,37 @@ int ViewCommand(const std::vector<std::string>& argv) {
   auto participant = dds::CreateParticipant(
       static_cast<dds_domainid_t>(*args->GetDouble("--domain", 0)), security);
   if (!participant) return Fail(participant.error(), kExitFailure);
-  const std::string topic = wire::RosTopic(cam->ros_namespace, "image_raw");
-  auto images = dds::Endpoint<sensor_msgs_msg_dds__Image_>::Open(
-      *participant, &sensor_msgs_msg_dds__Image__desc, topic.c_str(), false, true,
-      wire::kRosDefaultQos);
+  const std::string topic = wire::RosTopic(cam.status.ros_namespace, "image_raw");
+  auto images = ImageReader::Open(*participant, &sensor_msgs_msg_dds__Image__desc, topic.c_str(),
+                                  false, true, wire::kRosDefaultQos);
   if (!images) return Fail(images.error(), kExitFailure);
 
   std::signal(SIGINT, OnStopSignal);
   std::signal(SIGTERM, OnStopSignal);
   int saved = 0;
   auto next_due = std::chrono::steady_clock::now();
-  while (!g_stop && saved < *count) {
-    // The next frame after the picture is due; for a corner camera, one whose pose can be
-    // heard. `unpaired`: the newest frame before that, shown without a pose if no pose comes.
+  while (!g_stop && saved < o.count) {
     std::optional<LiveFrame> frame, unpaired;
-    const auto give_up = std::max(std::chrono::steady_clock::now(), next_due) +
-                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                             std::chrono::duration<double>(*timeout_s));
-    while (!frame && !g_stop && std::chrono::steady_clock::now() < give_up) {
-      auto taken = images->Take<LiveFrame>(std::chrono::milliseconds(200), [](const auto& s) {
-        LiveFrame f;
-        if (std::string(s.encoding ? s.encoding : "") == "mono8" && s.width > 0 &&
-            static_cast<uint64_t>(s.step) * s.height == s.data._length && s.step >= s.width) {
-          f.grey = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_8UC1,
-                           s.data._buffer, s.step)
-                       .clone();
-        }
-        f.stamp_ns = int64_t{s.header.stamp.sec} * 1000000000 + s.header.stamp.nanosec;
-        return f;
-      });
-      if (!taken) return Fail(taken.error(), kExitFailure);
-      if (std::chrono::steady_clock::now() < next_due) continue;
-      for (auto& f : *taken) {
-        if (f.grey.empty()) continue;
-        bool pose_can_arrive = true;
-        if (corner) {
-          std::lock_guard<std::mutex> lock(mutex);
-          pose_can_arrive = first_pose_stamp_ns && f.stamp_ns >= *first_pose_stamp_ns;
-        }
-        (pose_can_arrive ? frame : unpaired) = std::move(f);
-      }
-    }
+    if (Status s = TakeFrame(*images, o, cam.corner(), poses, next_due, &frame, &unpaired); !s)
+      return Fail(s.error(), kExitFailure);
     if (g_stop) break;
     const bool no_pose_heard = !frame && unpaired;
     if (no_pose_heard) frame = std::move(unpaired);
     if (!frame) {
-      return Fail("no frame from camera '" + *camera + "' on " + topic + " within " +
-                      std::to_string(static_cast<int>(*timeout_s)) +
-                      " s (camera state: " + ToString(cam->state) +
-                      (cam->last_error.empty() ? "" : ", " + cam->last_error) + ")",
+      return Fail("no frame from camera '" + o.camera + "' on " + topic + " within " +
+                      std::to_string(static_cast<int>(o.timeout_s)) +
+                      " s (camera state: " + ToString(cam.status.state) +
+                      (cam.status.last_error.empty() ? "" : ", " + cam.status.last_error) + ")",
                   kExitFailure);
     }
-    cv::Mat picture;
-    cv::cvtColor(frame->grey, picture, cv::COLOR_GRAY2BGR);
-    if (corner) {
-      // Its pose is published once the frame is processed: wait for it, until a pose of a
-      // later frame shows that the service skipped this one (poses come in frame order), or
-      // 5 s (a busy or slow service, e.g. a sanitizer build, takes more than a frame time).
-      std::optional<Pose> pose;
-      bool skipped = false;
-      for (int i = 0; i < 250 && !pose && !skipped && !no_pose_heard; ++i) {
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          for (const auto& p : poses) {
-            if (p.capture_time_ns == frame->stamp_ns) pose = p;
-            skipped |= p.capture_time_ns > frame->stamp_ns;
-          }
-        }
-        if (!pose && !skipped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      }
-      DrawCornerView(picture, k, pose,
-                     no_pose_heard ? "no pose heard from the service within --timeout"
-                                   : "the service skipped it while busy");
-    } else if (file->floor) {
-      const FloorPose& floor = file->floor->pose;
-      DrawFloorFrame(picture, k, floor);
-      std::ostringstream caption;
-      caption << std::fixed << std::setprecision(3) << "floor: h " << floor.height_m << " m  pitch "
-              << std::setprecision(2) << floor.pitch_rad * kDeg << " deg  (rev "
-              << calibration->revision << ")";
-      PutText(picture, caption.str(), {12, 32}, 0.8, cv::Scalar(0, 255, 255));
-    } else {
-      PutText(picture, "floor camera without a floor calibration: `monocle floor calibrate`",
-              {12, 32}, 0.7, cv::Scalar(0, 0, 255));
-    }
-    std::ostringstream stamp;
-    stamp << cam->camera_id << "  frame at " << frame->stamp_ns << " ns";
-    PutText(picture, stamp.str(), {12, picture.rows - 40}, 0.5, cv::Scalar(255, 255, 255));
-    // Replaced in one step (rename), so a viewer polling the file never reads half a picture.
-    const std::string partial =
-        *out + ".partial" + std::filesystem::path(*out).extension().string();
-    if (Status s = WriteImage(partial, picture); !s) return Fail(s.error(), kExitFailure);
-    std::error_code ec;
-    std::filesystem::rename(partial, *out, ec);
-    if (ec) return Fail("cannot write " + *out + ": " + ec.message(), kExitFailure);
+    const cv::Mat picture = DrawPicture(cam, *frame, poses, no_pose_heard);
+    if (Status s = SavePicture(o.out, picture); !s) return Fail(s.error(), kExitFailure);
     ++saved;
-    std::cout << "saved " << *out << " (" << cam->camera_id << ", frame at " << frame->stamp_ns
-              << " ns)" << std::endl;
+    std::cout << "saved " << o.out << " (" << o.camera << ", frame at " << frame->stamp_ns << " ns)"
+              << std::endl;
     next_due = std::chrono::steady_clock::now() +
                std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                   std::chrono::duration<double>(*every_s));
+                   std::chrono::duration<double>(o.every_s));
   }
   return kExitOk;
 }

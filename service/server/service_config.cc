@@ -59,13 +59,12 @@ const char* ToString(CameraRole role) {
   return "?";
 }
 
-Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::string& source,
-                                        const std::string& base_dir) {
-  proto::ServiceConfig msg;
-  TextFormat::ParseInfoTree tree;
-  if (auto parsed = ParseTextProto(text, source, &msg, &tree); !parsed) return parsed.error();
-  const ConfigErrors errors(source, tree);
-  ServiceSetup out;
+namespace {
+
+// domain, security_dir and the periods.
+Status ParseServiceWide(const proto::ServiceConfig& msg, const std::string& base_dir,
+                        const ConfigErrors& errors, ServiceSetup* out_setup) {
+  ServiceSetup& out = *out_setup;
   // Cyclone DDS maps a domain to UDP ports; 232 is the highest id whose ports fit.
   if (msg.domain() < 0 || msg.domain() > 232) return errors.Top("domain", "must be 0..232");
   out.domain = msg.domain();
@@ -90,6 +89,211 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
     out.discovery_wait =
         std::chrono::milliseconds(static_cast<int64_t>(msg.discovery_wait_s() * 1000));
   }
+  return Ok{};
+}
+
+// A camera's name, device, role and calibration file; the id must be new to `ids`.
+Status ParseCameraIdentity(const proto::CameraConfig& c, int i, const std::string& base_dir,
+                           const ConfigErrors& errors, std::set<std::string>* ids,
+                           CameraSetup* cam_out) {
+  CameraSetup& cam = *cam_out;
+  if (c.device().empty())
+    return errors.Camera(i, "device", "is missing: an Aravis id, IP, serial or sim-corner");
+  if (c.device().size() > kMaxNameLength)
+    return errors.Camera(i, "device",
+                         "is longer than " + std::to_string(kMaxNameLength) + " characters");
+  if (c.id().size() > kMaxNameLength)
+    return errors.Camera(i, "id",
+                         "is longer than " + std::to_string(kMaxNameLength) + " characters");
+  cam.options.device = c.device();
+  cam.id = c.id().empty() ? c.device() : c.id();
+  if (!ids->insert(cam.id).second)
+    return errors.Camera(i, "id", "'" + cam.id + "' names two cameras; give each its own id",
+                         c.id().empty() ? "device" : "id");
+  switch (c.role()) {
+    case proto::CORNER:
+      cam.role = CameraRole::kCorner;
+      break;
+    case proto::FLOOR:
+      cam.role = CameraRole::kFloor;
+      break;
+    case proto::CORNER_AND_FLOOR:
+      cam.role = CameraRole::kCornerAndFloor;
+      break;
+    default:
+      return errors.Camera(i, "role", "is missing: CORNER, FLOOR or CORNER_AND_FLOOR");
+  }
+  if (c.calibration().empty())
+    return errors.Camera(i, "calibration",
+                         "is missing: the camera's calibration file (monocle intrinsics "
+                         "calibrate writes one)");
+  std::filesystem::path path(c.calibration());
+  if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+  cam.calibration_path = path.lexically_normal().string();
+  if (c.has_ceiling_distance_m()) {
+    if (!(c.ceiling_distance_m() > 0 && c.ceiling_distance_m() < 100))
+      return errors.Camera(i, "ceiling_distance_m", "must be 0..100 metres");
+    cam.ceiling_distance_m = c.ceiling_distance_m();
+  }
+  return Ok{};
+}
+
+// What the camera is opened with (AravisOptions) and how long a stalled stream is waited for.
+Status ParseDeviceOptions(const proto::CameraConfig& c, int i, const ConfigErrors& errors,
+                          CameraSetup* cam_out) {
+  CameraSetup& cam = *cam_out;
+  if (!c.pixel_format().empty()) cam.options.pixel_format = c.pixel_format();
+  if (c.has_exposure_us()) {
+    if (!(c.exposure_us() > 0)) return errors.Camera(i, "exposure_us", "must be > 0 µs");
+    cam.options.exposure_us = c.exposure_us();
+  }
+  if (c.has_gain()) cam.options.gain = c.gain();
+  if (c.has_frame_rate_hz()) {
+    if (!(c.frame_rate_hz() > 0)) return errors.Camera(i, "frame_rate_hz", "must be > 0 Hz");
+    cam.options.frame_rate_hz = c.frame_rate_hz();
+  }
+  if (c.has_packet_size_bytes()) cam.options.packet_size_bytes = c.packet_size_bytes();
+  if (c.has_inter_packet_delay_ticks())
+    cam.options.inter_packet_delay_ticks = c.inter_packet_delay_ticks();
+  for (const auto& f : c.feature()) {
+    if (f.name().empty()) return errors.Camera(i, "feature", "has an empty name");
+    cam.options.features.emplace_back(f.name(), f.value());
+  }
+  if (c.has_stall_timeout_s()) {
+    if (!(c.stall_timeout_s() >= 0.05 && c.stall_timeout_s() <= 600))
+      return errors.Camera(i, "stall_timeout_s", "must be 0.05..600 seconds");
+    cam.stall_timeout = std::chrono::milliseconds(static_cast<int64_t>(c.stall_timeout_s() * 1000));
+  }
+  return Ok{};
+}
+
+// The camera's ROS 2 names and the live image's rate.
+Status ParseRosNames(const proto::CameraConfig& c, int i, const ConfigErrors& errors,
+                     CameraSetup* cam_out) {
+  CameraSetup& cam = *cam_out;
+  cam.ros_namespace =
+      c.ros_namespace().empty() ? "/monocle/" + RosNameToken(cam.id) : c.ros_namespace();
+  while (cam.ros_namespace.size() > 1 && cam.ros_namespace.back() == '/')
+    cam.ros_namespace.pop_back();
+  if (cam.ros_namespace.front() != '/') cam.ros_namespace = "/" + cam.ros_namespace;
+  for (size_t k = 1; k < cam.ros_namespace.size(); ++k) {
+    const char ch = cam.ros_namespace[k];
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '/') ||
+        (ch == '/' && cam.ros_namespace[k - 1] == '/'))
+      return errors.Camera(
+          i, "ros_namespace",
+          "'" + c.ros_namespace() + "' is not a ROS 2 namespace (letters, digits, _ and single /)");
+  }
+  cam.ros_parent_frame = c.ros_parent_frame().empty() ? "corner" : c.ros_parent_frame();
+  cam.ros_frame = cam.ros_namespace.substr(cam.ros_namespace.find_last_of('/') + 1) + "_optical";
+  if (c.has_image_max_rate_hz()) {
+    if (!(c.image_max_rate_hz() > 0 && c.image_max_rate_hz() <= 1000))
+      return errors.Camera(i, "image_max_rate_hz", "must be 0..1000 Hz");
+    cam.image_max_rate_hz = c.image_max_rate_hz();
+  }
+  return Ok{};
+}
+
+// The camera on the robot.
+Status ParseMount(const proto::CameraConfig& c, int i, const ConfigErrors& errors,
+                  CameraSetup* cam_out) {
+  CameraSetup& cam = *cam_out;
+  if (c.has_mount()) {
+    const auto& m = c.mount();
+    if (m.base_frame().empty())
+      return errors.Camera(i, "mount.base_frame", "is missing, e.g. \"base_link\"", "mount");
+    if (m.translation_m_size() != 3)
+      return errors.Camera(i, "mount.translation_m", "needs 3 values: x, y, z in metres", "mount");
+    if (m.rotation_xyzw_size() != 4)
+      return errors.Camera(i, "mount.rotation_xyzw", "needs 4 values: a quaternion x, y, z, w",
+                           "mount");
+    double norm2 = 0;
+    for (double q : m.rotation_xyzw()) norm2 += q * q;
+    if (!(std::abs(std::sqrt(norm2) - 1) < 1e-3))
+      return errors.Camera(
+          i, "mount.rotation_xyzw",
+          "must be a unit quaternion (its norm is " + std::to_string(std::sqrt(norm2)) + ")",
+          "mount");
+    CameraSetup::Mount mount;
+    mount.base_frame = m.base_frame();
+    for (int k = 0; k < 3; ++k) mount.translation_m[static_cast<size_t>(k)] = m.translation_m(k);
+    // As given: MountTransform normalizes it, as a mount file's is (room_map_file.cc).
+    for (int k = 0; k < 4; ++k) mount.rotation_xyzw[static_cast<size_t>(k)] = m.rotation_xyzw(k);
+    cam.mount = mount;
+  }
+  return Ok{};
+}
+
+// The room map, the robot's level and where it starts (each needs the mount).
+Status ParseRoomMapAndLevel(const proto::CameraConfig& c, int i, const std::string& base_dir,
+                            const ConfigErrors& errors, CameraSetup* cam_out) {
+  CameraSetup& cam = *cam_out;
+  if (!c.room_map().empty()) {
+    if (!cam.mount) {
+      return errors.Camera(i, "room_map",
+                           "needs the camera's mount on the robot (mount { base_frame "
+                           "translation_m rotation_xyzw }): its height gives each corner's "
+                           "ceiling distance");
+    }
+    if (c.has_ceiling_distance_m()) {
+      return errors.Camera(i, "ceiling_distance_m",
+                           "is not used with a room_map: each corner's follows from the map's "
+                           "ceiling height and the mount's height; remove it");
+    }
+    std::filesystem::path map_path(c.room_map());
+    if (map_path.is_relative() && !base_dir.empty())
+      map_path = std::filesystem::path(base_dir) / map_path;
+    auto map = LoadRoomMapFile(map_path.lexically_normal().string());
+    if (!map) return errors.Camera(i, "room_map", "cannot be used: " + map.error().message);
+    const double height = cam.mount->translation_m[2];
+    for (const auto& room : map->rooms) {
+      if (!(height > 0 && height < room.ceiling_height_m - 0.1)) {
+        char why[512];
+        std::snprintf(why, sizeof why,
+                      "puts the camera %.2f m above the floor: it must be above the floor and "
+                      "0.1 m below the ceiling of room '%.40s' (%.2f m) of the room map",
+                      height, room.id.c_str(), room.ceiling_height_m);
+        return errors.Camera(i, "mount.translation_m", why, "mount");
+      }
+    }
+    cam.ceiling_distance_m = map->rooms.front().ceiling_height_m - height;
+    cam.room_map_path = map_path.lexically_normal().string();
+    cam.room_map = std::make_shared<const RoomMap>(std::move(*map));
+  }
+  if (c.has_level_sigma_deg()) {
+    if (!cam.mount)
+      return errors.Camera(i, "level_sigma_deg",
+                           "needs the camera's mount on the robot (mount { base_frame "
+                           "translation_m rotation_xyzw }): the level fixes the camera's tilt "
+                           "and swing through it");
+    if (!(c.level_sigma_deg() >= 0.01 && c.level_sigma_deg() <= 5))
+      return errors.Camera(i, "level_sigma_deg",
+                           "must be how level the robot stands, 1 sigma in degrees (0.01-5)");
+    cam.level_sigma_rad = c.level_sigma_deg() * std::numbers::pi / 180;
+  }
+  if (c.initial_pose_size() > 0) {
+    if (!cam.room_map) return errors.Camera(i, "initial_pose", "needs a room_map to be a pose in");
+    if (c.initial_pose_size() != 3)
+      return errors.Camera(i, "initial_pose", "needs 3 values: x_m, y_m, heading_deg");
+    const BasePose2d start{c.initial_pose(0), c.initial_pose(1),
+                           c.initial_pose(2) * std::numbers::pi / 180};
+    if (RoomContaining(*cam.room_map, {start.x_m, start.y_m}) == nullptr)
+      return errors.Camera(i, "initial_pose", "lies in no room of the room map");
+    cam.initial_pose = start;
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::string& source,
+                                        const std::string& base_dir) {
+  proto::ServiceConfig msg;
+  TextFormat::ParseInfoTree tree;
+  if (auto parsed = ParseTextProto(text, source, &msg, &tree); !parsed) return parsed.error();
+  const ConfigErrors errors(source, tree);
+  ServiceSetup out;
+  if (Status s = ParseServiceWide(msg, base_dir, errors, &out); !s) return s.error();
   if (msg.camera_size() == 0)
     return MakeError(ErrorCode::kInvalidArgument,
                      source + ": no camera { ... } configured (see monocled --print-config)");
@@ -104,165 +308,12 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
   for (int i = 0; i < msg.camera_size(); ++i) {
     const auto& c = msg.camera(i);
     CameraSetup cam;
-    if (c.device().empty())
-      return errors.Camera(i, "device", "is missing: an Aravis id, IP, serial or sim-corner");
-    if (c.device().size() > kMaxNameLength)
-      return errors.Camera(i, "device",
-                           "is longer than " + std::to_string(kMaxNameLength) + " characters");
-    if (c.id().size() > kMaxNameLength)
-      return errors.Camera(i, "id",
-                           "is longer than " + std::to_string(kMaxNameLength) + " characters");
-    cam.options.device = c.device();
-    cam.id = c.id().empty() ? c.device() : c.id();
-    if (!ids.insert(cam.id).second)
-      return errors.Camera(i, "id", "'" + cam.id + "' names two cameras; give each its own id",
-                           c.id().empty() ? "device" : "id");
-    switch (c.role()) {
-      case proto::CORNER:
-        cam.role = CameraRole::kCorner;
-        break;
-      case proto::FLOOR:
-        cam.role = CameraRole::kFloor;
-        break;
-      case proto::CORNER_AND_FLOOR:
-        cam.role = CameraRole::kCornerAndFloor;
-        break;
-      default:
-        return errors.Camera(i, "role", "is missing: CORNER, FLOOR or CORNER_AND_FLOOR");
-    }
-    if (c.calibration().empty())
-      return errors.Camera(i, "calibration",
-                           "is missing: the camera's calibration file (monocle intrinsics "
-                           "calibrate writes one)");
-    std::filesystem::path path(c.calibration());
-    if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
-    cam.calibration_path = path.lexically_normal().string();
-    if (c.has_ceiling_distance_m()) {
-      if (!(c.ceiling_distance_m() > 0 && c.ceiling_distance_m() < 100))
-        return errors.Camera(i, "ceiling_distance_m", "must be 0..100 metres");
-      cam.ceiling_distance_m = c.ceiling_distance_m();
-    }
-    if (!c.pixel_format().empty()) cam.options.pixel_format = c.pixel_format();
-    if (c.has_exposure_us()) {
-      if (!(c.exposure_us() > 0)) return errors.Camera(i, "exposure_us", "must be > 0 µs");
-      cam.options.exposure_us = c.exposure_us();
-    }
-    if (c.has_gain()) cam.options.gain = c.gain();
-    if (c.has_frame_rate_hz()) {
-      if (!(c.frame_rate_hz() > 0)) return errors.Camera(i, "frame_rate_hz", "must be > 0 Hz");
-      cam.options.frame_rate_hz = c.frame_rate_hz();
-    }
-    if (c.has_packet_size_bytes()) cam.options.packet_size_bytes = c.packet_size_bytes();
-    if (c.has_inter_packet_delay_ticks())
-      cam.options.inter_packet_delay_ticks = c.inter_packet_delay_ticks();
-    for (const auto& f : c.feature()) {
-      if (f.name().empty()) return errors.Camera(i, "feature", "has an empty name");
-      cam.options.features.emplace_back(f.name(), f.value());
-    }
-    if (c.has_stall_timeout_s()) {
-      if (!(c.stall_timeout_s() >= 0.05 && c.stall_timeout_s() <= 600))
-        return errors.Camera(i, "stall_timeout_s", "must be 0.05..600 seconds");
-      cam.stall_timeout =
-          std::chrono::milliseconds(static_cast<int64_t>(c.stall_timeout_s() * 1000));
-    }
-    cam.ros_namespace =
-        c.ros_namespace().empty() ? "/monocle/" + RosNameToken(cam.id) : c.ros_namespace();
-    while (cam.ros_namespace.size() > 1 && cam.ros_namespace.back() == '/')
-      cam.ros_namespace.pop_back();
-    if (cam.ros_namespace.front() != '/') cam.ros_namespace = "/" + cam.ros_namespace;
-    for (size_t k = 1; k < cam.ros_namespace.size(); ++k) {
-      const char ch = cam.ros_namespace[k];
-      if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '/') ||
-          (ch == '/' && cam.ros_namespace[k - 1] == '/'))
-        return errors.Camera(i, "ros_namespace",
-                             "'" + c.ros_namespace() +
-                                 "' is not a ROS 2 namespace (letters, digits, _ and single /)");
-    }
-    cam.ros_parent_frame = c.ros_parent_frame().empty() ? "corner" : c.ros_parent_frame();
-    cam.ros_frame = cam.ros_namespace.substr(cam.ros_namespace.find_last_of('/') + 1) + "_optical";
-    if (c.has_image_max_rate_hz()) {
-      if (!(c.image_max_rate_hz() > 0 && c.image_max_rate_hz() <= 1000))
-        return errors.Camera(i, "image_max_rate_hz", "must be 0..1000 Hz");
-      cam.image_max_rate_hz = c.image_max_rate_hz();
-    }
-    if (c.has_mount()) {
-      const auto& m = c.mount();
-      if (m.base_frame().empty())
-        return errors.Camera(i, "mount.base_frame", "is missing, e.g. \"base_link\"", "mount");
-      if (m.translation_m_size() != 3)
-        return errors.Camera(i, "mount.translation_m", "needs 3 values: x, y, z in metres",
-                             "mount");
-      if (m.rotation_xyzw_size() != 4)
-        return errors.Camera(i, "mount.rotation_xyzw", "needs 4 values: a quaternion x, y, z, w",
-                             "mount");
-      double norm2 = 0;
-      for (double q : m.rotation_xyzw()) norm2 += q * q;
-      if (!(std::abs(std::sqrt(norm2) - 1) < 1e-3))
-        return errors.Camera(
-            i, "mount.rotation_xyzw",
-            "must be a unit quaternion (its norm is " + std::to_string(std::sqrt(norm2)) + ")",
-            "mount");
-      CameraSetup::Mount mount;
-      mount.base_frame = m.base_frame();
-      for (int k = 0; k < 3; ++k) mount.translation_m[static_cast<size_t>(k)] = m.translation_m(k);
-      // As given: MountTransform normalizes it, as a mount file's is (room_map_file.cc).
-      for (int k = 0; k < 4; ++k) mount.rotation_xyzw[static_cast<size_t>(k)] = m.rotation_xyzw(k);
-      cam.mount = mount;
-    }
-    if (!c.room_map().empty()) {
-      if (!cam.mount) {
-        return errors.Camera(i, "room_map",
-                             "needs the camera's mount on the robot (mount { base_frame "
-                             "translation_m rotation_xyzw }): its height gives each corner's "
-                             "ceiling distance");
-      }
-      if (c.has_ceiling_distance_m()) {
-        return errors.Camera(i, "ceiling_distance_m",
-                             "is not used with a room_map: each corner's follows from the map's "
-                             "ceiling height and the mount's height; remove it");
-      }
-      std::filesystem::path map_path(c.room_map());
-      if (map_path.is_relative() && !base_dir.empty())
-        map_path = std::filesystem::path(base_dir) / map_path;
-      auto map = LoadRoomMapFile(map_path.lexically_normal().string());
-      if (!map) return errors.Camera(i, "room_map", "cannot be used: " + map.error().message);
-      const double height = cam.mount->translation_m[2];
-      for (const auto& room : map->rooms) {
-        if (!(height > 0 && height < room.ceiling_height_m - 0.1)) {
-          char why[512];
-          std::snprintf(why, sizeof why,
-                        "puts the camera %.2f m above the floor: it must be above the floor and "
-                        "0.1 m below the ceiling of room '%.40s' (%.2f m) of the room map",
-                        height, room.id.c_str(), room.ceiling_height_m);
-          return errors.Camera(i, "mount.translation_m", why, "mount");
-        }
-      }
-      cam.ceiling_distance_m = map->rooms.front().ceiling_height_m - height;
-      cam.room_map_path = map_path.lexically_normal().string();
-      cam.room_map = std::make_shared<const RoomMap>(std::move(*map));
-    }
-    if (c.has_level_sigma_deg()) {
-      if (!cam.mount)
-        return errors.Camera(i, "level_sigma_deg",
-                             "needs the camera's mount on the robot (mount { base_frame "
-                             "translation_m rotation_xyzw }): the level fixes the camera's tilt "
-                             "and swing through it");
-      if (!(c.level_sigma_deg() >= 0.01 && c.level_sigma_deg() <= 5))
-        return errors.Camera(i, "level_sigma_deg",
-                             "must be how level the robot stands, 1 sigma in degrees (0.01-5)");
-      cam.level_sigma_rad = c.level_sigma_deg() * std::numbers::pi / 180;
-    }
-    if (c.initial_pose_size() > 0) {
-      if (!cam.room_map)
-        return errors.Camera(i, "initial_pose", "needs a room_map to be a pose in");
-      if (c.initial_pose_size() != 3)
-        return errors.Camera(i, "initial_pose", "needs 3 values: x_m, y_m, heading_deg");
-      const BasePose2d start{c.initial_pose(0), c.initial_pose(1),
-                             c.initial_pose(2) * std::numbers::pi / 180};
-      if (RoomContaining(*cam.room_map, {start.x_m, start.y_m}) == nullptr)
-        return errors.Camera(i, "initial_pose", "lies in no room of the room map");
-      cam.initial_pose = start;
-    }
+    // In this order: each part may rely on the ones before it (the room map on the mount).
+    if (Status s = ParseCameraIdentity(c, i, base_dir, errors, &ids, &cam); !s) return s.error();
+    if (Status s = ParseDeviceOptions(c, i, errors, &cam); !s) return s.error();
+    if (Status s = ParseRosNames(c, i, errors, &cam); !s) return s.error();
+    if (Status s = ParseMount(c, i, errors, &cam); !s) return s.error();
+    if (Status s = ParseRoomMapAndLevel(c, i, base_dir, errors, &cam); !s) return s.error();
     out.cameras.push_back(std::move(cam));
   }
   return out;
