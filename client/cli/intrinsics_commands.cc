@@ -116,6 +116,158 @@ cv::Mat CoveragePicture(const cv::Size& size, const std::vector<IntrinsicView>& 
 
 std::string Stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
+// The boards found in the images; views without one are listed in `out` with the reason.
+// kExitOk, or the exit status of an unreadable image or one of another size.
+int DetectBoards(const std::vector<std::string>& paths, const BoardSpec& spec,
+                 proto::IntrinsicsOutput* out, std::vector<IntrinsicView>* views, cv::Size* size) {
+  ProgressLine progress("detecting boards", paths.size());
+  for (size_t n = 0; n < paths.size(); ++n) {
+    progress.Update(n);
+    const auto& path = paths[n];
+    const auto image = ReadGreyImage(path);
+    if (!image) return Fail(image.error(), kExitFailure);
+    if (size->area() == 0) *size = image->size();
+    if (image->size() != *size)
+      return Fail("image '" + path + "' differs in size from the first image", kExitFailure);
+    auto board = DetectChessboard(*image, spec);
+    if (!board) {
+      progress.Done();
+      std::cerr << "monocle: warning: " << path << ": " << board.error().message << "; skipped\n";
+      auto* v = out->add_views();
+      v->set_image(path);
+      v->set_error(board.error().message);
+      continue;
+    }
+    views->push_back({path, std::move(*board)});
+  }
+  progress.Done();
+  return kExitOk;
+}
+
+// Each view with its corners and their residuals, and the image's coverage, into `dir`.
+Status WriteOverlays(const std::string& dir, const std::vector<IntrinsicView>& views,
+                     const IntrinsicCalibration& cal, cv::Size size) {
+  for (const auto& fit : cal.views) {
+    const auto it = std::find_if(views.begin(), views.end(),
+                                 [&](const IntrinsicView& v) { return v.name == fit.name; });
+    const auto image = ReadGreyImage(fit.name);
+    if (it == views.end() || !image) continue;
+    cv::Mat colour = ToColour(*image);
+    DrawView(colour, it->board, fit);
+    if (auto w = WriteImage(dir + "/" + Stem(fit.name) + ".png", colour); !w) return w;
+  }
+  return WriteImage(dir + "/coverage.png", CoveragePicture(size, views, cal));
+}
+
+// The result as the JSON output has it.
+void FillOutput(const IntrinsicCalibration& cal, const std::string& written, bool floor_removed,
+                proto::IntrinsicsOutput* out) {
+  const auto& k = cal.intrinsics;
+  const auto sigma = cal.Sigma();
+  out->set_width(k.width_px);
+  out->set_height(k.height_px);
+  out->set_fx(k.fx);
+  out->set_fy(k.fy);
+  out->set_cx(k.cx);
+  out->set_cy(k.cy);
+  auto* s = out->mutable_sigma();
+  s->set_fx(sigma[0]);
+  s->set_fy(sigma[1]);
+  s->set_cx(sigma[2]);
+  s->set_cy(sigma[3]);
+  for (int i = 0; i < 5; ++i) {
+    out->add_distortion(k.distortion[i]);
+    s->add_distortion(sigma[4 + i]);
+  }
+  out->set_model(ToString(cal.model));
+  out->set_model_reason(cal.model_reason);
+  out->set_rms_px(cal.rms_px);
+  out->set_corner_sigma_px(cal.corner_sigma_px);
+  out->set_coverage(cal.coverage);
+  out->set_max_tilt_deg(cal.max_tilt_deg);
+  for (const auto& fit : cal.views) {
+    auto* v = out->add_views();
+    v->set_image(fit.name);
+    v->set_rms_px(fit.rms_px);
+    v->set_tilt_deg(fit.tilt_deg);
+    v->set_outlier(fit.outlier);
+    v->set_dropped(fit.dropped);
+    v->set_rejected_corners(fit.rejected_corners);
+  }
+  for (const auto& w : cal.warnings) out->add_warnings(w);
+  out->set_written(written);
+  out->set_floor_removed(floor_removed);
+}
+
+void PrintWarnings(const IntrinsicCalibration& cal, const std::string& written,
+                   bool floor_removed) {
+  for (const auto& w : cal.warnings) std::cerr << "monocle: warning: " << w << "\n";
+  for (const auto& fit : cal.views) {
+    if (fit.outlier && !fit.dropped) {
+      std::cerr << "monocle: warning: view " << fit.name << " is an outlier (RMS " << fit.rms_px
+                << " px): retake it, or use --drop-outliers\n";
+    }
+  }
+  if (floor_removed) {
+    std::cerr << "monocle: warning: the floor section of " << written
+              << " was made with the old intrinsics and is removed: run monocle floor "
+                 "calibrate again\n";
+  }
+}
+
+void PrintText(const IntrinsicCalibration& cal, size_t found, size_t images,
+               const std::string& written) {
+  const auto& k = cal.intrinsics;
+  const auto sigma = cal.Sigma();
+  const char* names[] = {"k1", "k2", "p1", "p2", "k3"};
+  std::cout << std::fixed << std::setprecision(3) << "images      " << found << " of " << images
+            << " with a board\n"
+            << "fx fy       " << k.fx << " ± " << sigma[0] << "   " << k.fy << " ± " << sigma[1]
+            << " px\n"
+            << "cx cy       " << k.cx << " ± " << sigma[2] << "   " << k.cy << " ± " << sigma[3]
+            << " px\n"
+            << std::setprecision(5);
+  for (int i = 0; i < 5; ++i)
+    std::cout << std::setw(12) << std::left << names[i] << std::right << k.distortion[i] << " ± "
+              << sigma[4 + i] << "\n";
+  std::cout << "model       " << cal.model_reason << "\n"
+            << std::setprecision(4) << "rms         " << cal.rms_px
+            << " px (one corner coordinate: 1σ " << cal.corner_sigma_px << " px)\n"
+            << std::setprecision(0) << "coverage    " << 100 * cal.coverage
+            << " % of the image; largest tilt " << cal.max_tilt_deg << " deg\n";
+  std::cout << "views       RMS px   tilt deg\n" << std::setprecision(3);
+  for (const auto& fit : cal.views) {
+    std::cout << "  " << fit.name << "  " << fit.rms_px << "   " << std::setprecision(0)
+              << fit.tilt_deg << std::setprecision(3)
+              << (fit.dropped   ? "  outlier, dropped"
+                  : fit.outlier ? "  OUTLIER"
+                                : "")
+              << (fit.rejected_corners
+                      ? "  (" + std::to_string(fit.rejected_corners) + " corners left out)"
+                      : "")
+              << "\n";
+  }
+  std::cout << "written to  " << written << "\n";
+}
+
+// Writes the intrinsics into `path`, keeping the rest of a file already there except its
+// floor section, which the old intrinsics made (`floor_removed` says whether there was one).
+Status WriteIntrinsics(const std::string& path, const IntrinsicCalibration& cal,
+                       bool* floor_removed) {
+  CameraCalibration file;
+  *floor_removed = false;
+  if (auto existing = LoadCalibrationFile(path); existing) {
+    file = *existing;
+    *floor_removed = file.floor.has_value();
+    file.floor.reset();
+  }
+  file.intrinsics = cal.intrinsics;
+  file.intrinsics_rms_px = cal.rms_px;
+  file.intrinsics_covariance = cal.covariance;
+  file.distortion_model = ToString(cal.model);
+  return SaveCalibrationFileAtomically(path, file);
+}
+
 }  // namespace
 
 int IntrinsicsCommand(const std::vector<std::string>& argv) {
@@ -138,7 +290,6 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
     options.model = *model;
   }
   options.drop_outliers = args->Has("--drop-outliers");
-  const bool json = args->Has("--json");
   const auto& paths = args->positionals();
   if (paths.size() < 3) return Fail("give at least 3 board images (see --help)", kExitUsage);
   const auto overlay_dir = args->Get("--overlay");
@@ -152,28 +303,10 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
 
   proto::IntrinsicsOutput out;
   std::vector<IntrinsicView> views;
-  std::vector<std::string> view_paths;
   cv::Size size;
-  ProgressLine progress("detecting boards", paths.size());
-  for (size_t n = 0; n < paths.size(); ++n) {
-    progress.Update(n);
-    const auto& path = paths[n];
-    const auto image = ReadGreyImage(path);
-    if (!image) return Fail(image.error(), kExitFailure);
-    if (size.area() == 0) size = image->size();
-    if (image->size() != size)
-      return Fail("image '" + path + "' differs in size from the first image", kExitFailure);
-    auto board = DetectChessboard(*image, *spec);
-    if (!board) {
-      progress.Done();
-      std::cerr << "monocle: warning: " << path << ": " << board.error().message << "; skipped\n";
-      auto* v = out.add_views();
-      v->set_image(path);
-      v->set_error(board.error().message);
-      continue;
-    }
-    views.push_back({path, std::move(*board)});
-  }
+  if (int status = DetectBoards(paths, *spec, &out, &views, &size); status != kExitOk)
+    return status;
+  ProgressLine progress("calibrating", 1);
   progress.Message("calibrating from " + std::to_string(views.size()) + " of " +
                    std::to_string(paths.size()) + " images...");
   if (views.size() < 3) {
@@ -185,117 +318,20 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   const auto cal = CalibrateIntrinsics(views, size, options);
   progress.Done();
   if (!cal) return Fail(cal.error(), kExitFailure);
-
-  CameraCalibration file;
   bool floor_removed = false;
-  if (auto existing = LoadCalibrationFile(*out_path); existing) {
-    file = *existing;
-    floor_removed = file.floor.has_value();
-    file.floor.reset();
-  }
-  file.intrinsics = cal->intrinsics;
-  file.intrinsics_rms_px = cal->rms_px;
-  file.intrinsics_covariance = cal->covariance;
-  file.distortion_model = ToString(cal->model);
-  if (auto saved = SaveCalibrationFileAtomically(*out_path, file); !saved)
+  if (Status saved = WriteIntrinsics(*out_path, *cal, &floor_removed); !saved)
     return Fail(saved.error(), kExitFailure);
-
   if (overlay_dir) {
-    for (const auto& fit : cal->views) {
-      const auto it = std::find_if(views.begin(), views.end(),
-                                   [&](const IntrinsicView& v) { return v.name == fit.name; });
-      const auto image = ReadGreyImage(fit.name);
-      if (it == views.end() || !image) continue;
-      cv::Mat colour = ToColour(*image);
-      DrawView(colour, it->board, fit);
-      if (auto w = WriteImage(*overlay_dir + "/" + Stem(fit.name) + ".png", colour); !w)
-        return Fail(w.error(), kExitFailure);
-    }
-    if (auto w = WriteImage(*overlay_dir + "/coverage.png", CoveragePicture(size, views, *cal)); !w)
+    if (Status w = WriteOverlays(*overlay_dir, views, *cal, size); !w)
       return Fail(w.error(), kExitFailure);
   }
-
-  const auto& k = cal->intrinsics;
-  const auto sigma = cal->Sigma();
-  out.set_width(k.width_px);
-  out.set_height(k.height_px);
-  out.set_fx(k.fx);
-  out.set_fy(k.fy);
-  out.set_cx(k.cx);
-  out.set_cy(k.cy);
-  auto* s = out.mutable_sigma();
-  s->set_fx(sigma[0]);
-  s->set_fy(sigma[1]);
-  s->set_cx(sigma[2]);
-  s->set_cy(sigma[3]);
-  for (int i = 0; i < 5; ++i) {
-    out.add_distortion(k.distortion[i]);
-    s->add_distortion(sigma[4 + i]);
-  }
-  out.set_model(ToString(cal->model));
-  out.set_model_reason(cal->model_reason);
-  out.set_rms_px(cal->rms_px);
-  out.set_corner_sigma_px(cal->corner_sigma_px);
-  out.set_coverage(cal->coverage);
-  out.set_max_tilt_deg(cal->max_tilt_deg);
-  for (const auto& fit : cal->views) {
-    auto* v = out.add_views();
-    v->set_image(fit.name);
-    v->set_rms_px(fit.rms_px);
-    v->set_tilt_deg(fit.tilt_deg);
-    v->set_outlier(fit.outlier);
-    v->set_dropped(fit.dropped);
-    v->set_rejected_corners(fit.rejected_corners);
-  }
-  for (const auto& w : cal->warnings) out.add_warnings(w);
-  out.set_written(*out_path);
-  out.set_floor_removed(floor_removed);
-
-  for (const auto& w : cal->warnings) std::cerr << "monocle: warning: " << w << "\n";
-  for (const auto& fit : cal->views) {
-    if (fit.outlier && !fit.dropped) {
-      std::cerr << "monocle: warning: view " << fit.name << " is an outlier (RMS " << fit.rms_px
-                << " px): retake it, or use --drop-outliers\n";
-    }
-  }
-  if (floor_removed) {
-    std::cerr << "monocle: warning: the floor section of " << *out_path
-              << " was made with the old intrinsics and is removed: run monocle floor "
-                 "calibrate again\n";
-  }
-  if (json) {
+  FillOutput(*cal, *out_path, floor_removed, &out);
+  PrintWarnings(*cal, *out_path, floor_removed);
+  if (args->Has("--json")) {
     std::cout << ToJson(out) << "\n";
     return kExitOk;
   }
-  const char* names[] = {"k1", "k2", "p1", "p2", "k3"};
-  std::cout << std::fixed << std::setprecision(3) << "images      " << views.size() << " of "
-            << paths.size() << " with a board\n"
-            << "fx fy       " << k.fx << " ± " << sigma[0] << "   " << k.fy << " ± " << sigma[1]
-            << " px\n"
-            << "cx cy       " << k.cx << " ± " << sigma[2] << "   " << k.cy << " ± " << sigma[3]
-            << " px\n"
-            << std::setprecision(5);
-  for (int i = 0; i < 5; ++i)
-    std::cout << std::setw(12) << std::left << names[i] << std::right << k.distortion[i] << " ± "
-              << sigma[4 + i] << "\n";
-  std::cout << "model       " << cal->model_reason << "\n"
-            << std::setprecision(4) << "rms         " << cal->rms_px
-            << " px (one corner coordinate: 1σ " << cal->corner_sigma_px << " px)\n"
-            << std::setprecision(0) << "coverage    " << 100 * cal->coverage
-            << " % of the image; largest tilt " << cal->max_tilt_deg << " deg\n";
-  std::cout << "views       RMS px   tilt deg\n" << std::setprecision(3);
-  for (const auto& fit : cal->views) {
-    std::cout << "  " << fit.name << "  " << fit.rms_px << "   " << std::setprecision(0)
-              << fit.tilt_deg << std::setprecision(3)
-              << (fit.dropped   ? "  outlier, dropped"
-                  : fit.outlier ? "  OUTLIER"
-                                : "")
-              << (fit.rejected_corners
-                      ? "  (" + std::to_string(fit.rejected_corners) + " corners left out)"
-                      : "")
-              << "\n";
-  }
-  std::cout << "written to  " << *out_path << "\n";
+  PrintText(*cal, views.size(), paths.size(), *out_path);
   return kExitOk;
 }
 
