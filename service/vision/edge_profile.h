@@ -13,6 +13,10 @@
 
 namespace monocle {
 
+// Each edge point comes from a profile averaged over 7 px along the edge: points closer
+// than that share image data. The fraction of independent ones is spacing / 7 px.
+inline constexpr double kProfileWindowPx = 7.0;
+
 // Subpixel edge points near predicted positions: for each (position, unit normal) the
 // intensity profile along the normal, averaged over +-3 px along the edge (so a step of a few
 // grey levels stands out of the noise), its steepest rise within +-half_width_px refined by a
