@@ -113,6 +113,83 @@ std::string ShadingClause(const CornerLocation& location) {
 
 }  // namespace
 
+namespace {
+
+// One edge's support against the pose in `out` (its EdgeSupport, line end and points), and
+// why it fails to support it, added to `reasons`. `c2`: the corner in normalized coordinates
+// as the pose projects it. Returns the sum of the squared distances of the edge's points to
+// the pose's line (pixels^2), for the overall RMS.
+double MeasureEdgeSupport(const CameraIntrinsics& k, const LineFit& fit, int axis,
+                          const Eigen::Vector2d& corner_n, const Eigen::Vector2d& c2,
+                          double spacing_px, const CornerQualityOptions& quality,
+                          CornerLocation* out, Eigen::Vector2d* direction_px,
+                          std::vector<std::string>* reasons) {
+  const double focal = 0.5 * (k.fx + k.fy);
+  const char* kAxis = "XYZ";
+  EdgeSupport& s = out->support[axis];
+  const Eigen::Vector3d a = CornerToCamera(
+      out->pose, 1e-3 * CameraPosition(out->pose).norm() * Eigen::Vector3d::Unit(axis));
+  const Eigen::Vector2d dir = (a.head<2>() / a.z() - c2).normalized();
+  const Eigen::Vector2d normal(-dir.y(), dir.x());
+  *direction_px = (NormalizedToPixel(k, c2 + 1e-3 * dir) - out->corner_px).normalized();
+  // Unweighted for the reported RMS; weighted as the fit was for the misfit below.
+  double edge_sum2 = 0, weighted_sum2 = 0, weights = 0;
+  for (size_t i = 0; i < fit.inliers.size(); ++i) {
+    const double d2 = std::pow(normal.dot(fit.inliers[i] - c2) * focal, 2);
+    const double w = fit.inlier_weights.empty() ? 1.0 : fit.inlier_weights[i];
+    edge_sum2 += d2;
+    weighted_sum2 += w * d2;
+    weights += w;
+  }
+  // The edge runs from the corner as far as its points follow each other: a stray point
+  // far out on the line (noise or shading that happens to line up) is not where it ends.
+  std::vector<std::pair<double, Eigen::Vector2d>> by_distance;
+  for (const auto& p : fit.inliers) by_distance.push_back({(p - corner_n).norm() * focal, p});
+  std::sort(by_distance.begin(), by_distance.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  const double max_gap_px = MaxGapPx(spacing_px);
+  Eigen::Vector2d far = by_distance.front().second;
+  for (size_t i = 1; i < by_distance.size(); ++i) {
+    if (by_distance[i].first - by_distance[i - 1].first > max_gap_px) break;
+    far = by_distance[i].second;
+  }
+  s.points = static_cast<int>(fit.inliers.size());
+  s.rms_px = std::sqrt(edge_sum2 / std::max(s.points, 1));
+  out->line_end_px[axis] = NormalizedToPixel(k, far);
+  out->points_per_line[axis] = s.points;
+  s.length_px = (out->line_end_px[axis] - out->corner_px).norm();
+  s.visible_length_px = VisibleLengthPx(k, out->pose, axis, out->corner_px);
+  // Points are spacing_px apart from 8 px off the corner.
+  s.coverage = std::min(1.0, spacing_px * s.points / std::max(s.visible_length_px - 8, 2.0));
+  std::vector<double> steps;
+  for (double step : fit.inlier_steps) steps.push_back(std::abs(step));
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  s.contrast_grey = steps.empty() ? 0 : steps[steps.size() / 2];
+  s.contrast_to_noise = s.contrast_grey / std::max(out->noise_sigma_grey, 0.5);
+  const double independent = std::max(2.0, s.points * std::min(1.0, spacing_px / kProfileWindowPx));
+  s.sigma_px = fit.normal_rms * focal / std::sqrt(independent);
+  // Scatter about the pose's line = scatter about its own line + the lines' separation,
+  // both weighted as the fit weighs its points.
+  const double own_rms_px = fit.normal_rms * focal;
+  const double pose_rms2 = weighted_sum2 / std::max(weights, 1e-9);
+  s.misfit_px = std::sqrt(std::max(0.0, pose_rms2 - own_rms_px * own_rms_px));
+  const double allowed =
+      std::max(quality.min_edge_misfit_px,
+               quality.max_edge_misfit_sigmas * std::hypot(s.sigma_px, kLineBiasPx));
+  const std::string edge = std::string("edge ") + kAxis[axis];
+  if (s.coverage < quality.min_coverage)
+    reasons->push_back(edge + Format(" found on %.0f %% of its visible length", 100 * s.coverage));
+  if (s.contrast_to_noise < quality.min_contrast_to_noise)
+    reasons->push_back(edge + Format(" contrast %.1f grey levels at noise %.1f", s.contrast_grey,
+                                     out->noise_sigma_grey));
+  if (s.misfit_px > allowed)
+    reasons->push_back(
+        edge + Format(" lies %.2f px off the pose's line (allowed %.2f)", s.misfit_px, allowed));
+  return edge_sum2;
+}
+
+}  // namespace
+
 void AssessSupport(const cv::Mat& grey, const CameraIntrinsics& k,
                    const std::array<LineFit, 3>& fits, const std::array<int, 3>& axis_of_line,
                    const Eigen::Vector2d& corner_n, const CornerQualityOptions& quality,
@@ -120,76 +197,15 @@ void AssessSupport(const cv::Mat& grey, const CameraIntrinsics& k,
   const double focal = 0.5 * (k.fx + k.fy);
   const Eigen::Vector3d c_cam = CornerToCamera(out->pose, Eigen::Vector3d::Zero());
   const Eigen::Vector2d c2 = c_cam.head<2>() / c_cam.z();
-  const char* kAxis = "XYZ";
   std::vector<std::string> reasons;
   std::array<Eigen::Vector2d, 3> direction_px;  // X, Y, Z leaving the corner, image pixels
   double sum2 = 0;
   int total = 0;
   for (int m = 0; m < 3; ++m) {
     const int axis = axis_of_line[m];
-    const LineFit& fit = fits[m];
-    EdgeSupport& s = out->support[axis];
-    const Eigen::Vector3d a = CornerToCamera(
-        out->pose, 1e-3 * CameraPosition(out->pose).norm() * Eigen::Vector3d::Unit(axis));
-    const Eigen::Vector2d dir = (a.head<2>() / a.z() - c2).normalized();
-    const Eigen::Vector2d normal(-dir.y(), dir.x());
-    direction_px[axis] = (NormalizedToPixel(k, c2 + 1e-3 * dir) - out->corner_px).normalized();
-    // Unweighted for the reported RMS; weighted as the fit was for the misfit below.
-    double edge_sum2 = 0, weighted_sum2 = 0, weights = 0;
-    for (size_t i = 0; i < fit.inliers.size(); ++i) {
-      const double d2 = std::pow(normal.dot(fit.inliers[i] - c2) * focal, 2);
-      const double w = fit.inlier_weights.empty() ? 1.0 : fit.inlier_weights[i];
-      edge_sum2 += d2;
-      weighted_sum2 += w * d2;
-      weights += w;
-    }
-    // The edge runs from the corner as far as its points follow each other: a stray point
-    // far out on the line (noise or shading that happens to line up) is not where it ends.
-    std::vector<std::pair<double, Eigen::Vector2d>> by_distance;
-    for (const auto& p : fit.inliers) by_distance.push_back({(p - corner_n).norm() * focal, p});
-    std::sort(by_distance.begin(), by_distance.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    const double max_gap_px = MaxGapPx(spacing_px[m]);
-    Eigen::Vector2d far = by_distance.front().second;
-    for (size_t i = 1; i < by_distance.size(); ++i) {
-      if (by_distance[i].first - by_distance[i - 1].first > max_gap_px) break;
-      far = by_distance[i].second;
-    }
-    sum2 += edge_sum2;
-    total += static_cast<int>(fit.inliers.size());
-    s.points = static_cast<int>(fit.inliers.size());
-    s.rms_px = std::sqrt(edge_sum2 / std::max(s.points, 1));
-    out->line_end_px[axis] = NormalizedToPixel(k, far);
-    out->points_per_line[axis] = s.points;
-    s.length_px = (out->line_end_px[axis] - out->corner_px).norm();
-    s.visible_length_px = VisibleLengthPx(k, out->pose, axis, out->corner_px);
-    // Points are spacing_px apart from 8 px off the corner.
-    s.coverage = std::min(1.0, spacing_px[m] * s.points / std::max(s.visible_length_px - 8, 2.0));
-    std::vector<double> steps;
-    for (double step : fit.inlier_steps) steps.push_back(std::abs(step));
-    std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-    s.contrast_grey = steps.empty() ? 0 : steps[steps.size() / 2];
-    s.contrast_to_noise = s.contrast_grey / std::max(out->noise_sigma_grey, 0.5);
-    const double independent =
-        std::max(2.0, s.points * std::min(1.0, spacing_px[m] / kProfileWindowPx));
-    s.sigma_px = fit.normal_rms * focal / std::sqrt(independent);
-    // Scatter about the pose's line = scatter about its own line + the lines' separation,
-    // both weighted as the fit weighs its points.
-    const double own_rms_px = fit.normal_rms * focal;
-    const double pose_rms2 = weighted_sum2 / std::max(weights, 1e-9);
-    s.misfit_px = std::sqrt(std::max(0.0, pose_rms2 - own_rms_px * own_rms_px));
-    const double allowed =
-        std::max(quality.min_edge_misfit_px,
-                 quality.max_edge_misfit_sigmas * std::hypot(s.sigma_px, kLineBiasPx));
-    const std::string edge = std::string("edge ") + kAxis[axis];
-    if (s.coverage < quality.min_coverage)
-      reasons.push_back(edge + Format(" found on %.0f %% of its visible length", 100 * s.coverage));
-    if (s.contrast_to_noise < quality.min_contrast_to_noise)
-      reasons.push_back(edge + Format(" contrast %.1f grey levels at noise %.1f", s.contrast_grey,
-                                      out->noise_sigma_grey));
-    if (s.misfit_px > allowed)
-      reasons.push_back(
-          edge + Format(" lies %.2f px off the pose's line (allowed %.2f)", s.misfit_px, allowed));
+    sum2 += MeasureEdgeSupport(k, fits[m], axis, corner_n, c2, spacing_px[m], quality, out,
+                               &direction_px[axis], &reasons);
+    total += static_cast<int>(fits[m].inliers.size());
   }
   std::array<double, 3> steps_near_corner;
   for (int m = 0; m < 3; ++m)
