@@ -7,35 +7,17 @@
 #include <iostream>
 #include <random>
 
+#include "service/geometry/corner_pose_test_helpers.h"
 #include "service/geometry/corner_test_scenes.h"
 #include "service/geometry/test_scenes.h"
 
 namespace monocle {
 namespace {
 
+using testing::AngleDiff;
+using testing::CornerCamera;
 using testing::Deg;
-
-CameraIntrinsics CornerCamera() {
-  CameraIntrinsics k = testing::PaperCamera();
-  k.fx = k.fy = 1600;
-  k.cx = 640;
-  k.cy = 512;
-  k.distortion = {};
-  return k;
-}
-
-double AngleDiff(double a, double b) {
-  return std::abs(std::remainder(a - b, 2 * std::numbers::pi));
-}
-
-void ExpectPoseNear(const CornerPose& got, const CornerPose& want, double tol) {
-  EXPECT_NEAR(got.x_m, want.x_m, tol * std::max(1.0, want.x_m)) << got << " vs " << want;
-  EXPECT_NEAR(got.y_m, want.y_m, tol * std::max(1.0, want.y_m)) << got << " vs " << want;
-  EXPECT_NEAR(got.z_m, want.z_m, tol) << got << " vs " << want;
-  EXPECT_LT(AngleDiff(got.pan_rad, want.pan_rad), tol) << got << " vs " << want;
-  EXPECT_LT(AngleDiff(got.tilt_rad, want.tilt_rad), tol) << got << " vs " << want;
-  EXPECT_LT(AngleDiff(got.swing_rad, want.swing_rad), tol) << got << " vs " << want;
-}
+using testing::ExpectPoseNear;
 
 TEST(CornerPoseRefinementTest, RefinementConvergesToTruthAndCovarianceScalesWithNoise) {
   std::mt19937_64 rng(7);

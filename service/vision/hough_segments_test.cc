@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "service/vision/stage_test_images.h"
+#include "service/vision/edge_test_images.h"
 
 namespace monocle::corner_detection {
 namespace {

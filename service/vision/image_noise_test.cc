@@ -10,39 +10,13 @@
 #include <opencv2/imgproc.hpp>
 #include <utility>
 
+#include "service/vision/edge_test_images.h"
+
 namespace monocle {
 namespace {
 
-// `image` (float grey levels) with Gaussian noise of `noise` added, as an 8-bit camera gives it.
-cv::Mat WithNoiseAs8Bit(cv::Mat image, double noise, uint64_t seed) {
-  if (noise > 0) {
-    cv::Mat n(image.size(), CV_32F);
-    cv::RNG rng(seed);
-    rng.fill(n, cv::RNG::NORMAL, 0.0, noise);
-    image += n;
-  }
-  cv::Mat out;
-  image.convertTo(out, CV_8U);
-  return out;
-}
-
-// A straight step edge of `step` grey levels through (edge_x, 0) at angle `angle` from the
-// vertical, blurred by `blur` px, with Gaussian noise: each pixel integrates the step
-// analytically (erf), so the edge sits at its true subpixel place.
-cv::Mat StepImage(double edge_x, double angle, double step, double blur, double noise,
-                  uint64_t seed, double dark_grey = 120) {
-  cv::Mat image(400, 400, CV_32F);
-  const double c = std::cos(angle), s = std::sin(angle);
-  for (int v = 0; v < image.rows; ++v) {
-    for (int u = 0; u < image.cols; ++u) {
-      const double distance = (u - edge_x) * c - (v - 200) * s;  // signed, along the normal
-      const double sigma = std::hypot(blur, 0.3);  // 0.3: a pixel's own extent, roughly
-      image.at<float>(v, u) = static_cast<float>(
-          dark_grey + step * 0.5 * (1 + std::erf(distance / (std::sqrt(2.0) * sigma))));
-    }
-  }
-  return WithNoiseAs8Bit(image, noise, seed);
-}
+using testing::StepImage;
+using testing::WithNoiseAs8Bit;
 
 TEST(ImageNoiseTest, EstimatesTheNoiseOfAFlatImage) {
   for (double sigma : {1.0, 2.0, 3.0, 4.0}) {

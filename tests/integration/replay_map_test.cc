@@ -21,13 +21,14 @@
 #include "idl/protocol/convert.h"
 #include "monocle/client.h"
 #include "service/io/mcap_reader.h"
+#include "tests/integration/room_drive.h"
 #include "tests/integration/service_process.h"
 
 namespace monocle {
 namespace {
 
 constexpr int kDomain = 83;
-const std::string kExamples = std::string(MONOCLE_SOURCE_DIR) + "/idl/examples/";
+const std::string kExamples = testing::kRoomExamples;
 // Frames to record: enough for the map tracker to carry its prior through many frames and
 // for the corner tracker to detect again (every 30 frames).
 constexpr size_t kFrames = 40;
@@ -43,35 +44,12 @@ TEST_F(ReplayMapTest, ReplayInTheRoomMapGivesTheMapPosesMonocledPublished) {
   // 4 frames a second: monocled (about 5 ms a frame) processes every one, so live and replay
   // see the same sequence. Under ThreadSanitizer, 1 a second.
   const std::string fps = testing::kThreadSanitizer ? "1" : "4";
-  testing::ChildProcess simcam(
-      testing::MonocleBinary(),
-      {"simcam", "--scene", "room", "--map", kExamples + "room_map.pbtxt", "--mount",
-       kExamples + "camera_mount.pbtxt", "--trajectory", kExamples + "drive.txt", "--realistic",
-       "--look-seed", "7", "--fps", fps, "--calibration-out", dir_ / "sim.pbtxt"},
-      dir_ / "simcam.log");
-  const int wait_100ms = testing::kThreadSanitizer ? 3000 : 600;
-  for (int i = 0; i < wait_100ms && !std::ifstream(dir_ / "sim.pbtxt"); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_TRUE(std::ifstream(dir_ / "sim.pbtxt").good()) << testing::ReadFile(dir_ / "simcam.log");
+  std::unique_ptr<testing::ChildProcess> simcam;
+  ASSERT_NO_FATAL_FAILURE(testing::StartRoomDrive(dir_, "7", fps, &simcam));
   const std::string recording = dir_ / "map.mcap";
   // The configuration's mount is idl/examples/camera_mount.pbtxt's, the initial pose the
-  // drive's start: what the replay is given again below.
-  ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
-discovery_wait_s: 0.2
-camera {
-  id: "front"
-  device: "127.0.0.1"
-  role: CORNER
-  calibration: "sim.pbtxt"
-  room_map: ")" + kExamples + R"(room_map.pbtxt"
-  initial_pose: [1.4, 1.3, -20]
-  mount {
-    base_frame: "base_link"
-    translation_m: [0.1, 0, 0.4]
-    rotation_xyzw: [-0.2988362, 0.2988362, -0.6408564, 0.6408564]
-  }
-}
-)",
+  // drive's start (RoomDriveCameraConfig): what the replay is given again below.
+  ASSERT_NO_FATAL_FAILURE(StartService(kDomain, testing::RoomDriveCameraConfig(),
                                        {"--record", recording, "--record-frames", "every"}));
   std::atomic<size_t> poses{0};
   auto sub = client_->subscribe_poses([&](const Pose&) { ++poses; }, "front");
@@ -88,7 +66,7 @@ camera {
   }
   ASSERT_EQ(monocled_->Stop(), 0) << testing::ReadFile(dir_ / "monocled.log");
   monocled_.reset();
-  EXPECT_EQ(simcam.Stop(), 0);
+  EXPECT_EQ(simcam->Stop(), 0);
   ASSERT_GE(poses.load(), kFrames) << testing::ReadFile(dir_ / "monocled.log");
 
   // The recording: every frame, and the pose monocled published for each.

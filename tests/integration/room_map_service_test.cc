@@ -16,6 +16,7 @@
 
 #include "idl/cli_output.pb.h"
 #include "service/io/base_trajectory_file.h"
+#include "tests/integration/room_drive.h"
 #include "tests/integration/ros2_wire.h"
 #include "tests/integration/service_process.h"
 
@@ -56,33 +57,10 @@ TEST(RoomMapServiceTest, PosesInTheMapFrameOnTheWireAndOnTf) {
   TempDir dir("monocle_room_map_service");
   const auto truth = LoadBaseTrajectoryFile(kExamples + "drive.txt");
   ASSERT_TRUE(truth.ok());
-  testing::ChildProcess simcam(
-      testing::MonocleBinary(),
-      {"simcam", "--scene", "room", "--map", kExamples + "room_map.pbtxt", "--mount",
-       kExamples + "camera_mount.pbtxt", "--trajectory", kExamples + "drive.txt", "--realistic",
-       "--look-seed", "5", "--fps", "10", "--calibration-out", dir / "sim.pbtxt"},
-      dir / "simcam.log");
-  // simcam renders the 25 frames first (minutes under ThreadSanitizer).
-  const int wait_100ms = testing::kThreadSanitizer ? 3000 : 600;
-  for (int i = 0; i < wait_100ms && !std::ifstream(dir / "sim.pbtxt"); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_TRUE(std::ifstream(dir / "sim.pbtxt").good()) << testing::ReadFile(dir / "simcam.log");
-  auto monocled = testing::StartMonocled(dir, "domain: " + std::to_string(kDomain) + R"(
-discovery_wait_s: 0.2
-camera {
-  id: "front"
-  device: "127.0.0.1"
-  role: CORNER
-  calibration: "sim.pbtxt"
-  room_map: ")" + kExamples + R"(room_map.pbtxt"
-  initial_pose: [1.4, 1.3, -20]
-  mount {
-    base_frame: "base_link"
-    translation_m: [0.1, 0, 0.4]
-    rotation_xyzw: [-0.2988362, 0.2988362, -0.6408564, 0.6408564]
-  }
-}
-)");
+  std::unique_ptr<testing::ChildProcess> simcam;
+  ASSERT_NO_FATAL_FAILURE(testing::StartRoomDrive(dir, "5", "10", &simcam));
+  auto monocled = testing::StartMonocled(
+      dir, "domain: " + std::to_string(kDomain) + testing::RoomDriveCameraConfig());
   // A ROS 2 node's readers (default QoS), from the test's own IDL.
   const dds_entity_t participant = dds_create_participant(kDomain, nullptr, nullptr);
   ASSERT_GT(participant, 0);
@@ -166,7 +144,7 @@ camera {
   EXPECT_GE(transforms, 5);
   dds_delete(participant);
   EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
-  EXPECT_EQ(simcam.Stop(), 0);
+  EXPECT_EQ(simcam->Stop(), 0);
 }
 
 }  // namespace
