@@ -5,8 +5,8 @@
 // makes it precise.
 //
 // Why: with the ceiling distance given, what a weakly determined view leaves open is mostly
-// its tilt (tests/accuracy/corner_pose_notes.md, "Where the tail's information is missing"). A robot on a level floor
-// knows its camera's tilt and swing from the mount, to the floor's level.
+// its tilt (tests/accuracy/corner_pose_notes.md, "Where the tail's information is missing"). A
+// robot on a level floor knows its camera's tilt and swing from the mount, to the floor's level.
 #pragma once
 
 #include <numbers>
