@@ -8,6 +8,49 @@
 
 namespace monocle {
 
+namespace {
+
+// The covariance of the six residuals (two per line), pixels^2 times the weights': each
+// line's own scatter, its direction's extra uncertainty, and a whole-line offset of
+// `line_bias_px` (1 sigma) shared by its two residuals.
+Eigen::Matrix<double, 6, 6> ResidualCovariance(const std::array<LineObservation, 3>& lines,
+                                               double point_sigma_px, double line_bias_px) {
+  // Residual pair k has variance point_sigma_px^2 when line k's points scatter as its weight
+  // assumes (point_sigma_px times its relative sigma); scaled by how they actually scatter.
+  // Residual pair k: the two ends (centroid -+ spread) of line k. Their half sum is the
+  // line's offset, their half difference its direction times the spread; independent ends
+  // give both half the variance. A direction less certain than that (direction_sigma_scale)
+  // adds to the difference only.
+  Eigen::Matrix<double, 6, 6> residual_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double assumed =
+        point_sigma_px *
+        (lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0);
+    const double actual = lines[k].scatter_sigma_px > 0 ? lines[k].scatter_sigma_px : assumed;
+    const double direction_scale = std::max(lines[k].direction_sigma_scale, 1.0);
+    const double end_variance = std::pow(point_sigma_px * actual / assumed, 2);
+    const double offset_part = 0.5 * end_variance;
+    const double direction_part = 0.5 * end_variance * direction_scale * direction_scale;
+    residual_covariance.block<2, 2>(2 * k, 2 * k) << offset_part + direction_part,
+        offset_part - direction_part, offset_part - direction_part, offset_part + direction_part;
+  }
+  if (line_bias_px > 0) {
+    // Residual k's scale: weight_k * (offset in normalized units); a line offset by b pixels
+    // moves both of its residuals by weight_k * b / focal, fully correlated.
+    for (int k = 0; k < 3; ++k) {
+      const double n = lines[k].independent_points > 0 ? lines[k].independent_points
+                                                       : std::max(lines[k].num_points, 1);
+      const double sigma =
+          lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
+      const double weight = std::sqrt(std::max(n, 1.0) / 2.0) / sigma;  // focal cancels
+      residual_covariance.block<2, 2>(2 * k, 2 * k).array() += std::pow(weight * line_bias_px, 2);
+    }
+  }
+  return residual_covariance;
+}
+
+}  // namespace
+
 Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
                                           const std::array<LineObservation, 3>& lines,
                                           const std::array<int, 3>& axis_of_line, double focal_px,
@@ -52,38 +95,9 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
   CornerRefinement out;
   out.pose = Canonical(CornerPose{q[0], q[1], zc, q[2], q[3], q[4]});
   const Eigen::Matrix<double, 5, 5> jtj_inverse = lu.inverse();
-  // Residual pair k has variance point_sigma_px^2 when line k's points scatter as its weight
-  // assumes (point_sigma_px times its relative sigma); scaled by how they actually scatter.
-  // Residual pair k: the two ends (centroid -+ spread) of line k. Their half sum is the
-  // line's offset, their half difference its direction times the spread; independent ends
-  // give both half the variance. A direction less certain than that (direction_sigma_scale)
-  // adds to the difference only.
-  Eigen::Matrix<double, 6, 6> residual_covariance = Eigen::Matrix<double, 6, 6>::Zero();
-  for (int k = 0; k < 3; ++k) {
-    const double assumed =
-        point_sigma_px *
-        (lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0);
-    const double actual = lines[k].scatter_sigma_px > 0 ? lines[k].scatter_sigma_px : assumed;
-    const double direction_scale = std::max(lines[k].direction_sigma_scale, 1.0);
-    const double end_variance = std::pow(point_sigma_px * actual / assumed, 2);
-    const double offset_part = 0.5 * end_variance;
-    const double direction_part = 0.5 * end_variance * direction_scale * direction_scale;
-    residual_covariance.block<2, 2>(2 * k, 2 * k) << offset_part + direction_part,
-        offset_part - direction_part, offset_part - direction_part, offset_part + direction_part;
-  }
+  const Eigen::Matrix<double, 6, 6> residual_covariance =
+      ResidualCovariance(lines, point_sigma_px, line_bias_px);
   const Eigen::Matrix<double, 5, 6> gain = jtj_inverse * summary.jacobian.transpose();
-  if (line_bias_px > 0) {
-    // Residual k's scale: weight_k * (offset in normalized units); a line offset by b pixels
-    // moves both of its residuals by weight_k * b / focal, fully correlated.
-    for (int k = 0; k < 3; ++k) {
-      const double n = lines[k].independent_points > 0 ? lines[k].independent_points
-                                                       : std::max(lines[k].num_points, 1);
-      const double sigma =
-          lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
-      const double weight = std::sqrt(std::max(n, 1.0) / 2.0) / sigma;  // focal cancels
-      residual_covariance.block<2, 2>(2 * k, 2 * k).array() += std::pow(weight * line_bias_px, 2);
-    }
-  }
   // Where every line scatters as its weight assumes, the residuals' covariance is
   // point_sigma_px^2 I and this is point_sigma_px^2 (J^T J)^-1. Written as G D G^T, it is a
   // sum over the lines (D is block diagonal): each line's part is its own.

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "service/vision/order_statistics.h"
 
@@ -14,6 +15,39 @@ namespace monocle::corner_detection {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+
+// The peaks, most votes first, each once, without the near-duplicates of a stronger one
+// (within 3 degrees and 6 px); at most `max_peaks`.
+std::vector<HoughPeak> StrongestDistinct(std::vector<HoughPeak> peaks, int max_peaks) {
+  // Most votes first; equal votes in cell order, so the result does not depend on the
+  // order the candidates arose in.
+  std::sort(peaks.begin(), peaks.end(), [](const HoughPeak& x, const HoughPeak& y) {
+    return x.votes != y.votes ? x.votes > y.votes
+                              : std::tie(x.angle_bin, x.rho_bin) < std::tie(y.angle_bin, y.rho_bin);
+  });
+  peaks.erase(std::unique(peaks.begin(), peaks.end(),
+                          [](const HoughPeak& x, const HoughPeak& y) {
+                            return x.angle_bin == y.angle_bin && x.rho_bin == y.rho_bin;
+                          }),
+              peaks.end());
+  // Suppress near-duplicates of stronger peaks (within 3 degrees and 6 px).
+  std::vector<HoughPeak> kept;
+  for (const auto& p : peaks) {
+    bool duplicate = false;
+    for (const auto& k : kept) {
+      int da = std::abs(p.angle_bin - k.angle_bin);
+      int dr = std::abs(p.rho_bin - k.rho_bin);
+      if (da > kAngleBins / 2) {  // across the wrap the same line has -rho
+        da = kAngleBins - da;
+        dr = std::abs(p.rho_bin + k.rho_bin);
+      }
+      if (da <= 6 && dr <= 6) duplicate = true;
+    }
+    if (!duplicate) kept.push_back(p);
+    if (static_cast<int>(kept.size()) >= max_peaks) break;
+  }
+  return kept;
+}
 
 }  // namespace
 
@@ -106,34 +140,7 @@ std::vector<HoughPeak> HoughPeaks(const std::vector<EdgePixel>& edges, int w, in
   } else {
     std::fill(acc.begin(), acc.begin() + static_cast<std::ptrdiff_t>(cells), 0);
   }
-  // Most votes first; equal votes in cell order, so the result does not depend on the
-  // order the candidates arose in.
-  std::sort(peaks.begin(), peaks.end(), [](const HoughPeak& x, const HoughPeak& y) {
-    return x.votes != y.votes ? x.votes > y.votes
-                              : std::tie(x.angle_bin, x.rho_bin) < std::tie(y.angle_bin, y.rho_bin);
-  });
-  peaks.erase(std::unique(peaks.begin(), peaks.end(),
-                          [](const HoughPeak& x, const HoughPeak& y) {
-                            return x.angle_bin == y.angle_bin && x.rho_bin == y.rho_bin;
-                          }),
-              peaks.end());
-  // Suppress near-duplicates of stronger peaks (within 3 degrees and 6 px).
-  std::vector<HoughPeak> kept;
-  for (const auto& p : peaks) {
-    bool duplicate = false;
-    for (const auto& k : kept) {
-      int da = std::abs(p.angle_bin - k.angle_bin);
-      int dr = std::abs(p.rho_bin - k.rho_bin);
-      if (da > kAngleBins / 2) {  // across the wrap the same line has -rho
-        da = kAngleBins - da;
-        dr = std::abs(p.rho_bin + k.rho_bin);
-      }
-      if (da <= 6 && dr <= 6) duplicate = true;
-    }
-    if (!duplicate) kept.push_back(p);
-    if (static_cast<int>(kept.size()) >= max_peaks) break;
-  }
-  return kept;
+  return StrongestDistinct(std::move(peaks), max_peaks);
 }
 
 void SegmentsOfLine(const std::vector<const EdgePixel*>& edges, int line, double alpha, double rho,
