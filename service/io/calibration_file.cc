@@ -26,14 +26,11 @@ Error Invalid(const std::string& source, const std::string& field, const std::st
 
 bool Finite(double v) { return std::isfinite(v); }
 
-}  // namespace
-
-Result<CameraCalibration> ParseCalibration(const std::string& text, const std::string& source) {
-  proto::Calibration msg;
-  if (auto parsed = ParseTextProto(text, source, &msg); !parsed) return parsed.error();
-  if (!msg.has_intrinsics()) return Invalid(source, "intrinsics", "is missing");
+// The intrinsics section into `out` (intrinsics, their covariance and model).
+Status ParseIntrinsicsSection(const proto::Calibration& msg, const std::string& source,
+                              CameraCalibration* out_calibration) {
+  CameraCalibration& out = *out_calibration;
   const auto& in = msg.intrinsics();
-  CameraCalibration out;
   auto& k = out.intrinsics;
   if (in.width() == 0 || in.width() > 65535)
     return Invalid(source, "intrinsics.width", "must be 1..65535 pixels");
@@ -91,59 +88,69 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
     out.distortion_model = in.model();
   }
 
-  if (msg.has_floor()) {
-    const auto& f = msg.floor();
-    FloorCalibration fc;
-    if (!f.has_height()) return Invalid(source, "floor.height", "is missing");
-    if (!(f.height() > 0) || !Finite(f.height()) || f.height() > 1000)
-      return Invalid(source, "floor.height", "must be a positive height in metres");
-    if (!f.has_pitch()) return Invalid(source, "floor.pitch", "is missing");
-    if (!Finite(f.pitch()) || f.pitch() <= 0 || f.pitch() >= std::numbers::pi) {
-      return Invalid(
-          source, "floor.pitch",
-          "must be an angle in (0, pi) radians between the floor's up normal and the optical axis");
-    }
-    if (!Finite(f.yaw()) || std::abs(f.yaw()) > std::numbers::pi)
-      return Invalid(source, "floor.yaw", "must be an angle in [-pi, pi] radians");
-    if (!Finite(f.roll()) || std::abs(f.roll()) > std::numbers::pi)
-      return Invalid(source, "floor.roll", "must be an angle in [-pi, pi] radians");
-    fc.pose = FloorPose{f.height(), f.pitch(), f.yaw(), f.roll()};
-    if (f.covariance_size() != 0 && f.covariance_size() != 16) {
-      return Invalid(
-          source, "floor.covariance",
-          "must have 16 values (4x4, row-major), not " + std::to_string(f.covariance_size()));
-    }
-    for (int i = 0; i < f.covariance_size(); ++i) {
-      if (!Finite(f.covariance(i)))
-        return Invalid(source, "floor.covariance", "has a value that is not finite");
-      fc.covariance(i / 4, i % 4) = f.covariance(i);
-    }
-    for (int i = 0; i < 4; ++i) {
-      if (fc.covariance(i, i) < 0)
-        return Invalid(source, "floor.covariance", "has a negative variance on its diagonal");
-    }
-    if (f.intrinsics_cross_covariance_size() != 0) {
-      constexpr int n = kNumIntrinsicParams;
-      if (f.intrinsics_cross_covariance_size() != 4 * n) {
-        return Invalid(source, "floor.intrinsics_cross_covariance",
-                       "must have 36 values (4x9, row-major), not " +
-                           std::to_string(f.intrinsics_cross_covariance_size()));
-      }
-      for (int i = 0; i < 4 * n; ++i) {
-        if (!Finite(f.intrinsics_cross_covariance(i)))
-          return Invalid(source, "floor.intrinsics_cross_covariance",
-                         "has a value that is not finite");
-        fc.intrinsics_cross_covariance(i / n, i % n) = f.intrinsics_cross_covariance(i);
-      }
-    }
-    fc.rms_px = f.has_rms_px() ? f.rms_px() : 0.0;
-    if (f.has_method() && f.method() != "full" && f.method() != "paper") {
-      return Invalid(source, "floor.method", "must be \"full\" or \"paper\"");
-    }
-    fc.method =
-        f.method() == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
-    out.floor = fc;
+  return Ok{};
+}
+
+// The floor section: the camera's height, pitch, yaw and roll with their covariances.
+Result<FloorCalibration> ParseFloorSection(const proto::Calibration& msg,
+                                           const std::string& source) {
+  const auto& f = msg.floor();
+  FloorCalibration fc;
+  if (!f.has_height()) return Invalid(source, "floor.height", "is missing");
+  if (!(f.height() > 0) || !Finite(f.height()) || f.height() > 1000)
+    return Invalid(source, "floor.height", "must be a positive height in metres");
+  if (!f.has_pitch()) return Invalid(source, "floor.pitch", "is missing");
+  if (!Finite(f.pitch()) || f.pitch() <= 0 || f.pitch() >= std::numbers::pi) {
+    return Invalid(
+        source, "floor.pitch",
+        "must be an angle in (0, pi) radians between the floor's up normal and the optical axis");
   }
+  if (!Finite(f.yaw()) || std::abs(f.yaw()) > std::numbers::pi)
+    return Invalid(source, "floor.yaw", "must be an angle in [-pi, pi] radians");
+  if (!Finite(f.roll()) || std::abs(f.roll()) > std::numbers::pi)
+    return Invalid(source, "floor.roll", "must be an angle in [-pi, pi] radians");
+  fc.pose = FloorPose{f.height(), f.pitch(), f.yaw(), f.roll()};
+  if (f.covariance_size() != 0 && f.covariance_size() != 16) {
+    return Invalid(
+        source, "floor.covariance",
+        "must have 16 values (4x4, row-major), not " + std::to_string(f.covariance_size()));
+  }
+  for (int i = 0; i < f.covariance_size(); ++i) {
+    if (!Finite(f.covariance(i)))
+      return Invalid(source, "floor.covariance", "has a value that is not finite");
+    fc.covariance(i / 4, i % 4) = f.covariance(i);
+  }
+  for (int i = 0; i < 4; ++i) {
+    if (fc.covariance(i, i) < 0)
+      return Invalid(source, "floor.covariance", "has a negative variance on its diagonal");
+  }
+  if (f.intrinsics_cross_covariance_size() != 0) {
+    constexpr int n = kNumIntrinsicParams;
+    if (f.intrinsics_cross_covariance_size() != 4 * n) {
+      return Invalid(source, "floor.intrinsics_cross_covariance",
+                     "must have 36 values (4x9, row-major), not " +
+                         std::to_string(f.intrinsics_cross_covariance_size()));
+    }
+    for (int i = 0; i < 4 * n; ++i) {
+      if (!Finite(f.intrinsics_cross_covariance(i)))
+        return Invalid(source, "floor.intrinsics_cross_covariance",
+                       "has a value that is not finite");
+      fc.intrinsics_cross_covariance(i / n, i % n) = f.intrinsics_cross_covariance(i);
+    }
+  }
+  fc.rms_px = f.has_rms_px() ? f.rms_px() : 0.0;
+  if (f.has_method() && f.method() != "full" && f.method() != "paper") {
+    return Invalid(source, "floor.method", "must be \"full\" or \"paper\"");
+  }
+  fc.method =
+      f.method() == "paper" ? FloorCalibrationMethod::kPaper : FloorCalibrationMethod::kFull;
+  return fc;
+}
+
+// The corner section: the ceiling distance and the largest roll a pose may have.
+Status ParseCornerSection(const proto::Calibration& msg, const std::string& source,
+                          CameraCalibration* out_calibration) {
+  CameraCalibration& out = *out_calibration;
   if (msg.has_corner() && msg.corner().has_ceiling_distance()) {
     const double z = msg.corner().ceiling_distance();
     if (!(z > 0) || !Finite(z) || z > 1000)
@@ -157,6 +164,23 @@ Result<CameraCalibration> ParseCalibration(const std::string& text, const std::s
                      "must be an angle in radians, more than 0 and at most pi (3.14159)");
     out.corner_max_swing_rad = swing;
   }
+  return Ok{};
+}
+
+}  // namespace
+
+Result<CameraCalibration> ParseCalibration(const std::string& text, const std::string& source) {
+  proto::Calibration msg;
+  if (auto parsed = ParseTextProto(text, source, &msg); !parsed) return parsed.error();
+  if (!msg.has_intrinsics()) return Invalid(source, "intrinsics", "is missing");
+  CameraCalibration out;
+  if (Status s = ParseIntrinsicsSection(msg, source, &out); !s) return s.error();
+  if (msg.has_floor()) {
+    auto floor = ParseFloorSection(msg, source);
+    if (!floor) return floor.error();
+    out.floor = *floor;
+  }
+  if (Status s = ParseCornerSection(msg, source, &out); !s) return s.error();
   return out;
 }
 
