@@ -196,17 +196,13 @@ bool Uninformative(const FloorCalibration& c) {
   return !(sigma[0] <= 0.25 * c.pose.height_m) || !(sigma[1] <= 0.1);
 }
 
-}  // namespace
-
-FloorGuidance AdviseFloorCalibration(const CameraIntrinsics& k,
-                                     const IntrinsicsCovariance& k_covariance,
-                                     const FloorCalibration& floor, const BoardObservation& board,
-                                     double pixel_sigma_px,
-                                     const std::optional<FloorAccuracyTarget>& target) {
-  FloorGuidance g;
-  g.board = PlacementOf(k, floor, board);
-  g.target = target;
-  const double corner_sigma_px = floor.rms_px / std::sqrt(2.0);
+// Whether the calibration is of no use (the paper's method where the full one explains the
+// corners far better, or either with an uninformative spread): g->ill_conditioned and why.
+// Also where the board really lay, from the full method, when the paper's was asked for.
+void JudgeConditioning(const CameraIntrinsics& k, const IntrinsicsCovariance& k_covariance,
+                       const FloorCalibration& floor, const BoardObservation& board,
+                       FloorGuidance* guidance) {
+  FloorGuidance& g = *guidance;
   if (floor.method == FloorCalibrationMethod::kPaper) {
     // The paper's result is no use when the full method explains the same corners far
     // better (its bias shows as a poor fit), or when its own spread says nothing.
@@ -225,6 +221,20 @@ FloorGuidance AdviseFloorCalibration(const CameraIntrinsics& k,
         Metres(sigma[0]).c_str(), sigma[1] * kDeg, g.board.distance_m,
         100 * g.board.image_fraction);
   }
+}
+
+}  // namespace
+
+FloorGuidance AdviseFloorCalibration(const CameraIntrinsics& k,
+                                     const IntrinsicsCovariance& k_covariance,
+                                     const FloorCalibration& floor, const BoardObservation& board,
+                                     double pixel_sigma_px,
+                                     const std::optional<FloorAccuracyTarget>& target) {
+  FloorGuidance g;
+  g.board = PlacementOf(k, floor, board);
+  g.target = target;
+  const double corner_sigma_px = floor.rms_px / std::sqrt(2.0);
+  JudgeConditioning(k, k_covariance, floor, board, &g);
   if (g.ill_conditioned) {
     g.target_met = !target.has_value();
     return g;

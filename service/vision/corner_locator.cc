@@ -310,6 +310,56 @@ Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& 
   return out;
 }
 
+// A weakly determined view: its blurred edges are measured again along the refined lines,
+// with the wider filter whose larger shading bias the shading correction removes
+// (CornerQualityOptions::remeasure_above_relative_sigma; never where the shading is not
+// read). Not a Y rolled past max_swing: that one gives way to the next Y anyway
+// (LocateCorner). Where the second measurement refines, it replaces the first.
+void MeasureWeakViewAgain(const cv::Mat& grey, const CameraIntrinsics& k, double min_step,
+                          const CornerQualityOptions& quality,
+                          const std::array<int, 3>& axis_of_line, CornerEdges* edges,
+                          Result<MeasuredLines>* lines, Result<CornerRefinement>* refined,
+                          std::array<bool, 3>* wide_filter) {
+  const double focal = 0.5 * (k.fx + k.fy);
+  const double first_variance = (*refined)->covariance(0, 0) + (*refined)->covariance(1, 1);
+  const double first_horizontal_m = std::hypot((*refined)->pose.x_m, (*refined)->pose.y_m);
+  if (std::sqrt(first_variance) > quality.remeasure_above_relative_sigma * first_horizontal_m &&
+      std::sqrt(first_variance) > quality.shading_check_above_relative_sigma * first_horizontal_m &&
+      std::abs((*refined)->pose.swing_rad) <= quality.max_swing_rad) {
+    std::array<bool, 3> measure{};
+    for (int m = 0; m < 3; ++m)
+      measure[m] = WeakViewEdgeDerivativeSigmaPx(edges->blur_sigma_px[m]) > 0;
+    if (measure[0] || measure[1] || measure[2]) {
+      CornerEdges again = *edges;
+      auto wide = MeasureLines(grey, k, min_step, measure, &**lines, measure, &again);
+      auto wide_refined = wide
+                              ? RefineCornerPose((*refined)->pose, wide->observations, axis_of_line,
+                                                 focal, wide->point_sigma_px, kLineBiasPx)
+                              : Result<CornerRefinement>(wide.error());
+      if (wide_refined) {
+        *lines = std::move(wide);
+        *refined = std::move(wide_refined);
+        *edges = std::move(again);
+        *wide_filter = measure;
+      }
+    }
+  }
+}
+
+// The edges listed as X, Y, Z (the tracker relies on it), from the detector's order.
+CornerEdges OrderedByAxis(CornerEdges edges, const std::array<int, 3>& axis_of_line) {
+  CornerEdges ordered = edges;
+  for (int m = 0; m < 3; ++m) {
+    const int axis = axis_of_line[m];
+    ordered.direction[axis] = edges.direction[m];
+    ordered.points_px[axis] = std::move(edges.points_px[m]);
+    ordered.step_grey[axis] = std::move(edges.step_grey[m]);
+    ordered.polarity[axis] = edges.polarity[m];
+    ordered.blur_sigma_px[axis] = edges.blur_sigma_px[m];
+  }
+  return ordered;
+}
+
 }  // namespace
 
 const char* ToString(CornerSource source) {
@@ -350,33 +400,8 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   auto refined = RefineCornerPose(initial, lines->observations, axis_of_line, focal,
                                   lines->point_sigma_px, kLineBiasPx);
   if (!refined) return refined.error();
-  // A weakly determined view: its blurred edges are measured again along the refined lines,
-  // with the wider filter whose larger shading bias the correction below removes
-  // (CornerQualityOptions::remeasure_above_relative_sigma; never where the shading is not
-  // read). Not a Y rolled past max_swing: that one gives way to the next Y anyway
-  // (LocateCorner).
-  const double first_variance = refined->covariance(0, 0) + refined->covariance(1, 1);
-  const double first_horizontal_m = std::hypot(refined->pose.x_m, refined->pose.y_m);
-  if (std::sqrt(first_variance) > quality.remeasure_above_relative_sigma * first_horizontal_m &&
-      std::sqrt(first_variance) > quality.shading_check_above_relative_sigma * first_horizontal_m &&
-      std::abs(refined->pose.swing_rad) <= quality.max_swing_rad) {
-    std::array<bool, 3> measure{};
-    for (int m = 0; m < 3; ++m)
-      measure[m] = WeakViewEdgeDerivativeSigmaPx(edges.blur_sigma_px[m]) > 0;
-    if (measure[0] || measure[1] || measure[2]) {
-      CornerEdges again = edges;
-      auto wide = MeasureLines(grey, k, min_step, measure, &*lines, measure, &again);
-      auto wide_refined = wide ? RefineCornerPose(refined->pose, wide->observations, axis_of_line,
-                                                  focal, wide->point_sigma_px, kLineBiasPx)
-                               : Result<CornerRefinement>(wide.error());
-      if (wide_refined) {
-        lines = std::move(wide);
-        refined = std::move(wide_refined);
-        edges = std::move(again);
-        wide_filter = measure;
-      }
-    }
-  }
+  MeasureWeakViewAgain(grey, k, min_step, quality, axis_of_line, &edges, &lines, &refined,
+                       &wide_filter);
   const auto& fits = lines->fits;
   const auto& spacing_px = lines->spacing_px;
   const Eigen::Vector2d corner = lines->corner;
@@ -419,17 +444,7 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
     out.support[axis_of_line[m]].position_variance_share =
         horizontal_variance > 0 ? parts[m] / horizontal_variance : 0;
   AssessSupport(grey, k, fits, axis_of_line, corner, quality, spacing_px, &out);
-  // The tracker relies on edges listed as X, Y, Z: reorder what the detector found.
-  CornerEdges ordered = edges;
-  for (int m = 0; m < 3; ++m) {
-    const int axis = axis_of_line[m];
-    ordered.direction[axis] = edges.direction[m];
-    ordered.points_px[axis] = std::move(edges.points_px[m]);
-    ordered.step_grey[axis] = std::move(edges.step_grey[m]);
-    ordered.polarity[axis] = edges.polarity[m];
-    ordered.blur_sigma_px[axis] = edges.blur_sigma_px[m];
-  }
-  out.edges = std::move(ordered);
+  out.edges = OrderedByAxis(std::move(edges), axis_of_line);
   return out;
 }
 

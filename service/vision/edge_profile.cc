@@ -179,28 +179,17 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
   return out;
 }
 
-std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
-                                                const Eigen::Vector2d& direction, int count,
-                                                int spacing_px, double half_width_px, int polarity,
-                                                double min_step_grey, double derivative_sigma_px) {
-  std::vector<EdgePointSample> out;
-  if (count <= 0 || spacing_px <= 0 || grey.cols < 2 || grey.rows < 2) return out;
-  const int search = static_cast<int>(std::ceil(half_width_px));
-  const DerivativeKernel kernel(derivative_sigma_px);
-  // The profile reaches past the search window as far as PeakOfProfile reads: the step's
-  // sides (kStep + 1 from a peak inside the window) and the filter around its edge.
-  const int r = search + std::max(kStep, kernel.Reach() + 1);
-  const Eigen::Vector2d d = direction.normalized();
-  const Eigen::Vector2d n(-d.y(), d.x());
-  // Patch coordinates: column c along the edge, row o across it; image point =
-  // origin + c d + o n.
-  const int width = (count - 1) * spacing_px + 2 * kAlong + 1, height = 2 * r + 1;
-  const Eigen::Vector2d origin = start - kAlong * d - r * n;
+namespace {
+
+// The patch of `width` x `height` samples at origin + c d + o n (column c along the edge,
+// row o across it), read bilinearly, row by row, into `patch_out`.
+void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen::Vector2d& d,
+                 const Eigen::Vector2d& n, int width, int height, std::vector<float>* patch_out) {
   // Sampled here, bilinearly, with the image's edge pixels repeated beyond it (positions
   // that close to the border are skipped below anyway). OpenCV's warpAffine did this before,
   // but on a float copy of the region, with its position rounded to 1/32 px, and at ~100
   // calls a frame its allocations cost more than the sampling.
-  thread_local std::vector<float> patch;
+  std::vector<float>& patch = *patch_out;
   patch.resize(static_cast<size_t>(width) * height);
   const int max_x0 = grey.cols - 2, max_y0 = grey.rows - 2;
   const Eigen::Vector2d far_corner = origin + (width - 1) * d + (height - 1) * n;
@@ -267,6 +256,29 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
       row[c] = top + fy[c] * (bottom - top);
     }
   }
+}
+
+}  // namespace
+
+std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen::Vector2d& start,
+                                                const Eigen::Vector2d& direction, int count,
+                                                int spacing_px, double half_width_px, int polarity,
+                                                double min_step_grey, double derivative_sigma_px) {
+  std::vector<EdgePointSample> out;
+  if (count <= 0 || spacing_px <= 0 || grey.cols < 2 || grey.rows < 2) return out;
+  const int search = static_cast<int>(std::ceil(half_width_px));
+  const DerivativeKernel kernel(derivative_sigma_px);
+  // The profile reaches past the search window as far as PeakOfProfile reads: the step's
+  // sides (kStep + 1 from a peak inside the window) and the filter around its edge.
+  const int r = search + std::max(kStep, kernel.Reach() + 1);
+  const Eigen::Vector2d d = direction.normalized();
+  const Eigen::Vector2d n(-d.y(), d.x());
+  // Patch coordinates: column c along the edge, row o across it; image point =
+  // origin + c d + o n.
+  const int width = (count - 1) * spacing_px + 2 * kAlong + 1, height = 2 * r + 1;
+  const Eigen::Vector2d origin = start - kAlong * d - r * n;
+  thread_local std::vector<float> patch;
+  SamplePatch(grey, origin, d, n, width, height, &patch);
   std::vector<float> profile(height);
   constexpr float kScale = 1.0f / (2 * kAlong + 1);
   for (int i = 0; i < count; ++i) {
