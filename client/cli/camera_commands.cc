@@ -169,6 +169,47 @@ int Snapshot(const std::vector<std::string>& argv) {
   return kExitOk;
 }
 
+// The simulated camera's truth per frame, one JSON object a line (--truth FILE).
+Status WriteTruth(const SimCameraOptions& o, const SimGvCamera& cam, const std::string& path) {
+  std::ostringstream os;
+  os << std::setprecision(12);
+  if (o.scene == SimScene::kRoom) {
+    const auto& t = o.base_trajectory;
+    for (size_t i = 0; i < t.size(); ++i) {
+      os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
+         << ",\"y\":" << t[i].y_m << ",\"heading_deg\":" << t[i].heading_rad * 180 / M_PI << "}\n";
+    }
+  } else if (o.scene == SimScene::kCorner) {
+    const auto& t = cam.trajectory();
+    for (size_t i = 0; i < t.size(); ++i) {
+      os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
+         << ",\"y\":" << t[i].y_m << ",\"z\":" << t[i].z_m << ",\"pan\":" << t[i].pan_rad
+         << ",\"tilt\":" << t[i].tilt_rad << ",\"swing\":" << t[i].swing_rad << "}\n";
+    }
+  } else {
+    const auto& f = cam.floor_pose();
+    os << "{\"frame_id_mod\":0,\"period\":1,\"height\":" << f.height_m
+       << ",\"pitch\":" << f.pitch_rad << ",\"yaw\":" << f.yaw_rad << ",\"roll\":" << f.roll_rad
+       << "}\n";
+  }
+  return WriteFileAtomically(path, os.str());
+}
+
+// A calibration file of the simulated camera: its intrinsics and the scene's ceiling
+// distance or floor pose (--calibration-out FILE).
+Status WriteSimCalibration(const SimCameraOptions& o, const SimGvCamera& cam,
+                           const std::string& path) {
+  CameraCalibration cal;
+  cal.intrinsics = cam.intrinsics();
+  if (o.scene == SimScene::kCorner) {
+    cal.ceiling_distance_m = cam.trajectory().front().z_m;
+  } else if (o.scene == SimScene::kFloor) {
+    cal.floor = FloorCalibration{};
+    cal.floor->pose = cam.floor_pose();
+  }
+  return SaveCalibrationFileAtomically(path, cal);
+}
+
 int Simcam(const std::vector<std::string>& argv) {
   if (WantsHelp(argv)) {
     std::cout << kSimcamHelp;
@@ -240,41 +281,10 @@ int Simcam(const std::vector<std::string>& argv) {
   if (!cam) return Fail(cam.error(), kExitFailure);
   if (const auto look = SimRealisticLook(o, (*cam)->intrinsics())) std::cerr << *look << "\n";
   if (const auto truth = args->Get("--truth")) {
-    std::ostringstream os;
-    os << std::setprecision(12);
-    if (o.scene == SimScene::kRoom) {
-      const auto& t = o.base_trajectory;
-      for (size_t i = 0; i < t.size(); ++i) {
-        os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
-           << ",\"y\":" << t[i].y_m << ",\"heading_deg\":" << t[i].heading_rad * 180 / M_PI
-           << "}\n";
-      }
-    } else if (o.scene == SimScene::kCorner) {
-      const auto& t = (*cam)->trajectory();
-      for (size_t i = 0; i < t.size(); ++i) {
-        os << "{\"frame_id_mod\":" << i << ",\"period\":" << t.size() << ",\"x\":" << t[i].x_m
-           << ",\"y\":" << t[i].y_m << ",\"z\":" << t[i].z_m << ",\"pan\":" << t[i].pan_rad
-           << ",\"tilt\":" << t[i].tilt_rad << ",\"swing\":" << t[i].swing_rad << "}\n";
-      }
-    } else {
-      const auto& f = (*cam)->floor_pose();
-      os << "{\"frame_id_mod\":0,\"period\":1,\"height\":" << f.height_m
-         << ",\"pitch\":" << f.pitch_rad << ",\"yaw\":" << f.yaw_rad << ",\"roll\":" << f.roll_rad
-         << "}\n";
-    }
-    if (auto s = WriteFileAtomically(*truth, os.str()); !s) return Fail(s.error(), kExitFailure);
+    if (auto w = WriteTruth(o, **cam, *truth); !w) return Fail(w.error(), kExitFailure);
   }
   if (const auto cal_out = args->Get("--calibration-out")) {
-    CameraCalibration cal;
-    cal.intrinsics = (*cam)->intrinsics();
-    if (o.scene == SimScene::kCorner) {
-      cal.ceiling_distance_m = (*cam)->trajectory().front().z_m;
-    } else if (o.scene == SimScene::kFloor) {
-      cal.floor = FloorCalibration{};
-      cal.floor->pose = (*cam)->floor_pose();
-    }
-    if (auto s = SaveCalibrationFileAtomically(*cal_out, cal); !s)
-      return Fail(s.error(), kExitFailure);
+    if (auto w = WriteSimCalibration(o, **cam, *cal_out); !w) return Fail(w.error(), kExitFailure);
   }
   std::cerr << "serving simulated GigE Vision camera '" << o.serial << "' on " << o.ip << " ("
             << o.width << "x" << o.height << " Mono8, " << o.fps << " fps, scene " << scene

@@ -35,26 +35,13 @@ std::string Distance(double m) {
   return s;
 }
 
-}  // namespace
-
-Result<FloorMap> RenderFloorMap(const CameraCalibration& calibration, const FloorMapOptions& o) {
-  if (!calibration.floor) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "the calibration has no floor: calibrate it first (monocle floor calibrate)");
-  }
-  if (!(o.range_m > 0.5 && o.range_m <= 100) || !(o.metres_per_px >= 0.001) ||
-      !(o.cell_m >= o.metres_per_px) || o.range_m / o.metres_per_px > 4000 ||
-      !(o.pixel_sigma_px >= 0 && o.pixel_sigma_px <= 100)) {
-    return MakeError(ErrorCode::kInvalidArgument,
-                     "--range must be 0.5..100 m, --resolution 1 mm or more (at most 4000 "
-                     "pixels across), cells no finer than the resolution, pixel sigma 0..100 px");
-  }
+// The horizontal 1 sigma of the floor point at each cell centre of the `cols` x `rows` grid
+// (X_w = -range..range, Y_w = range..-behind), as `floor measure` reports it; NaN where the
+// camera does not see the cell.
+Result<cv::Mat> SigmaGrid(const CameraCalibration& calibration, const FloorMapOptions& o, int cols,
+                          int rows) {
   const CameraIntrinsics& k = calibration.intrinsics;
   const FloorPose& pose = calibration.floor->pose;
-
-  // The grid: cell centres at X_w = -range..range, Y_w = -behind..range.
-  const int cols = static_cast<int>(std::ceil(2 * o.range_m / o.cell_m));
-  const int rows = static_cast<int>(std::ceil((o.range_m + kBehindM) / o.cell_m));
   auto cell_x = [&](int c) { return -o.range_m + (c + 0.5) * o.cell_m; };
   auto cell_y = [&](int r) { return o.range_m - (r + 0.5) * o.cell_m; };  // row 0: farthest
   std::vector<PixelPair> pixels;
@@ -87,41 +74,14 @@ Result<FloorMap> RenderFloorMap(const CameraCalibration& calibration, const Floo
       grid.at<double>(cell_of[start + i]) = std::hypot(s.x(), s.y());
     }
   }
+  return grid;
+}
 
-  FloorMap map;
-  map.metres_per_px = o.metres_per_px;
-  const int width = static_cast<int>(std::lround(2 * o.range_m / o.metres_per_px));
-  const int height = static_cast<int>(std::lround((o.range_m + kBehindM) / o.metres_per_px));
-  map.origin_px = cv::Point2d(width / 2.0, o.range_m / o.metres_per_px);
-  map.sigma_m = cv::Mat(height, width, CV_64F);
-  cv::Mat lut(1, 256, CV_8UC1);
-  for (int i = 0; i < 256; ++i) lut.at<uint8_t>(0, i) = static_cast<uint8_t>(i);
-  cv::applyColorMap(lut, lut, cv::COLORMAP_TURBO);
-  map.picture = cv::Mat(height, width, CV_8UC3, cv::Scalar(40, 40, 40));
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      // The map pixel's centre on the floor, and the grid cell holding it.
-      const double fx = (x + 0.5 - map.origin_px.x) * o.metres_per_px;
-      const double fy = (map.origin_px.y - y - 0.5) * o.metres_per_px;
-      const int c = static_cast<int>(std::floor((fx + o.range_m) / o.cell_m));
-      const int r = static_cast<int>(std::floor((o.range_m - fy) / o.cell_m));
-      const double s = (c >= 0 && c < cols && r >= 0 && r < rows) ? grid.at<double>(r, c) : kNan;
-      map.sigma_m.at<double>(y, x) = s;
-      if (std::isfinite(s)) map.picture.at<cv::Vec3b>(y, x) = ColourOf(s, lut);
-    }
-  }
-  // Contours: where the level changes between neighbours (and the footprint's edge).
-  for (int y = 0; y + 1 < height; ++y) {
-    for (int x = 0; x + 1 < width; ++x) {
-      const int l = LevelOf(map.sigma_m.at<double>(y, x));
-      if (l != LevelOf(map.sigma_m.at<double>(y, x + 1)) ||
-          l != LevelOf(map.sigma_m.at<double>(y + 1, x))) {
-        const bool edge = l < 0 || LevelOf(map.sigma_m.at<double>(y, x + 1)) < 0 ||
-                          LevelOf(map.sigma_m.at<double>(y + 1, x)) < 0;
-        map.picture.at<cv::Vec3b>(y, x) = edge ? cv::Vec3b(255, 255, 255) : cv::Vec3b(0, 0, 0);
-      }
-    }
-  }
+// Distance rings every metre, the robot frame's axes, the caption and the colour bar.
+void DrawRingsAxesAndLegend(const FloorMapOptions& o, const FloorPose& pose, const cv::Mat& lut,
+                            FloorMap* map_out) {
+  FloorMap& map = *map_out;
+  const int width = map.picture.cols;
   // Distance rings every metre around the robot origin, labelled.
   const double ring_px = 1.0 / o.metres_per_px;
   for (int m = 1; m <= static_cast<int>(o.range_m); ++m) {
@@ -162,6 +122,64 @@ Result<FloorMap> RenderFloorMap(const CameraCalibration& calibration, const Floo
     cv::putText(map.picture, Distance(l), cv::Point(bar_x + i - 12, bar_y + bar_h + 15),
                 cv::FONT_HERSHEY_SIMPLEX, 0.35, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
   }
+}
+
+}  // namespace
+
+Result<FloorMap> RenderFloorMap(const CameraCalibration& calibration, const FloorMapOptions& o) {
+  if (!calibration.floor) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "the calibration has no floor: calibrate it first (monocle floor calibrate)");
+  }
+  if (!(o.range_m > 0.5 && o.range_m <= 100) || !(o.metres_per_px >= 0.001) ||
+      !(o.cell_m >= o.metres_per_px) || o.range_m / o.metres_per_px > 4000 ||
+      !(o.pixel_sigma_px >= 0 && o.pixel_sigma_px <= 100)) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "--range must be 0.5..100 m, --resolution 1 mm or more (at most 4000 "
+                     "pixels across), cells no finer than the resolution, pixel sigma 0..100 px");
+  }
+  const FloorPose& pose = calibration.floor->pose;
+
+  // The grid: cell centres at X_w = -range..range, Y_w = -behind..range.
+  const int cols = static_cast<int>(std::ceil(2 * o.range_m / o.cell_m));
+  const int rows = static_cast<int>(std::ceil((o.range_m + kBehindM) / o.cell_m));
+  auto grid = SigmaGrid(calibration, o, cols, rows);
+  if (!grid) return grid.error();
+  FloorMap map;
+  map.metres_per_px = o.metres_per_px;
+  const int width = static_cast<int>(std::lround(2 * o.range_m / o.metres_per_px));
+  const int height = static_cast<int>(std::lround((o.range_m + kBehindM) / o.metres_per_px));
+  map.origin_px = cv::Point2d(width / 2.0, o.range_m / o.metres_per_px);
+  map.sigma_m = cv::Mat(height, width, CV_64F);
+  cv::Mat lut(1, 256, CV_8UC1);
+  for (int i = 0; i < 256; ++i) lut.at<uint8_t>(0, i) = static_cast<uint8_t>(i);
+  cv::applyColorMap(lut, lut, cv::COLORMAP_TURBO);
+  map.picture = cv::Mat(height, width, CV_8UC3, cv::Scalar(40, 40, 40));
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      // The map pixel's centre on the floor, and the grid cell holding it.
+      const double fx = (x + 0.5 - map.origin_px.x) * o.metres_per_px;
+      const double fy = (map.origin_px.y - y - 0.5) * o.metres_per_px;
+      const int c = static_cast<int>(std::floor((fx + o.range_m) / o.cell_m));
+      const int r = static_cast<int>(std::floor((o.range_m - fy) / o.cell_m));
+      const double s = (c >= 0 && c < cols && r >= 0 && r < rows) ? grid->at<double>(r, c) : kNan;
+      map.sigma_m.at<double>(y, x) = s;
+      if (std::isfinite(s)) map.picture.at<cv::Vec3b>(y, x) = ColourOf(s, lut);
+    }
+  }
+  // Contours: where the level changes between neighbours (and the footprint's edge).
+  for (int y = 0; y + 1 < height; ++y) {
+    for (int x = 0; x + 1 < width; ++x) {
+      const int l = LevelOf(map.sigma_m.at<double>(y, x));
+      if (l != LevelOf(map.sigma_m.at<double>(y, x + 1)) ||
+          l != LevelOf(map.sigma_m.at<double>(y + 1, x))) {
+        const bool edge = l < 0 || LevelOf(map.sigma_m.at<double>(y, x + 1)) < 0 ||
+                          LevelOf(map.sigma_m.at<double>(y + 1, x)) < 0;
+        map.picture.at<cv::Vec3b>(y, x) = edge ? cv::Vec3b(255, 255, 255) : cv::Vec3b(0, 0, 0);
+      }
+    }
+  }
+  DrawRingsAxesAndLegend(o, pose, lut, &map);
   return map;
 }
 

@@ -48,32 +48,11 @@ cv::Scalar CornerColour(const RoomMap& map, const std::string& corner_id) {
   return kPalette[(it - ids.begin()) % std::size(kPalette)];
 }
 
-cv::Mat DrawMapPicture(const MapPicture& picture, MapPictureScale* scale_out) {
-  const RoomMap& map = *picture.map;
-  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
-  for (const auto& room : map.rooms) {
-    for (const auto& p : room.outline_m) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  }
-  for (const auto& b : picture.trajectory) {
-    lo = lo.cwiseMin(Eigen::Vector2d(b.x_m, b.y_m));
-    hi = hi.cwiseMax(Eigen::Vector2d(b.x_m, b.y_m));
-  }
-  lo.array() -= 0.5;
-  hi.array() += 0.5;
-  const Eigen::Vector2d extent = hi - lo;
-  MapPictureScale s;
-  s.px_per_m = std::max(40.0, std::min(1400 / extent.x(), 1000 / extent.y()));
-  const int width = static_cast<int>(std::ceil(extent.x() * s.px_per_m)) + 2 * kMarginPx;
-  const int height =
-      static_cast<int>(std::ceil(extent.y() * s.px_per_m)) + 2 * kMarginPx + kLegendPx;
-  s.origin_px =
-      cv::Point2d(kMarginPx - lo.x() * s.px_per_m, kLegendPx + kMarginPx + hi.y() * s.px_per_m);
-  cv::Mat image(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+namespace {
 
-  // A 1 m grid with its coordinates, under everything.
+// A 1 m grid with its coordinates, under everything; the rooms over it.
+void DrawGridAndRooms(const RoomMap& map, const MapPictureScale& s, const Eigen::Vector2d& lo,
+                      const Eigen::Vector2d& hi, cv::Mat& image) {
   for (double x = std::ceil(lo.x()); x <= hi.x(); x += 1) {
     cv::line(image, s.ToPx({x, lo.y()}), s.ToPx({x, hi.y()}), {235, 235, 235}, 1);
     Text(image, std::to_string(static_cast<int>(x)), s.ToPx({x, lo.y()}) + cv::Point(-4, 18), 0.45,
@@ -103,6 +82,36 @@ cv::Mat DrawMapPicture(const MapPicture& picture, MapPictureScale* scale_out) {
     if (!InsideOutline(room.outline_m, at)) at = room.outline_m.front() + Eigen::Vector2d(0.6, 0.9);
     Text(image, label.str(), s.ToPx(at) + cv::Point(-60, 0), 0.5, {90, 90, 90});
   }
+}
+
+}  // namespace
+
+cv::Mat DrawMapPicture(const MapPicture& picture, MapPictureScale* scale_out) {
+  const RoomMap& map = *picture.map;
+  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+  for (const auto& room : map.rooms) {
+    for (const auto& p : room.outline_m) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  for (const auto& b : picture.trajectory) {
+    lo = lo.cwiseMin(Eigen::Vector2d(b.x_m, b.y_m));
+    hi = hi.cwiseMax(Eigen::Vector2d(b.x_m, b.y_m));
+  }
+  lo.array() -= 0.5;
+  hi.array() += 0.5;
+  const Eigen::Vector2d extent = hi - lo;
+  MapPictureScale s;
+  s.px_per_m = std::max(40.0, std::min(1400 / extent.x(), 1000 / extent.y()));
+  const int width = static_cast<int>(std::ceil(extent.x() * s.px_per_m)) + 2 * kMarginPx;
+  const int height =
+      static_cast<int>(std::ceil(extent.y() * s.px_per_m)) + 2 * kMarginPx + kLegendPx;
+  s.origin_px =
+      cv::Point2d(kMarginPx - lo.x() * s.px_per_m, kLegendPx + kMarginPx + hi.y() * s.px_per_m);
+  cv::Mat image(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+
+  DrawGridAndRooms(map, s, lo, hi, image);
   // Corners: a ring in the corner's colour, its two ceiling edges (X, Y) as short arrows.
   for (const auto& room : map.rooms) {
     for (const auto& c : room.corners) {

@@ -95,6 +95,43 @@ class Progress {
   int lines_ = 0;
 };
 
+// --frames none|every|N: record no frames, every frame or every Nth; false for anything else.
+bool ParseFramesEvery(const std::string& frames, int* frames_every) {
+  if (frames == "none") {
+    *frames_every = 0;
+  } else if (frames == "every") {
+    *frames_every = 1;
+  } else if (auto n = ParseDouble(frames); n && *n >= 1 && *n <= 1e6 && *n == std::floor(*n)) {
+    *frames_every = static_cast<int>(*n);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The namespaces of the cameras asked for by id or namespace; kExitOk, or the exit status of
+// a camera that is not there (its message names the cameras that are).
+int NamespacesOf(const std::vector<std::string>& wanted, const std::vector<CameraStatus>& cameras,
+                 std::set<std::string>* namespaces) {
+  for (const std::string& id : wanted) {
+    bool found = false;
+    for (const CameraStatus& c : cameras) {
+      if (c.camera_id == id || c.ros_namespace == id) {
+        namespaces->insert(c.ros_namespace);
+        found = true;
+      }
+    }
+    if (!found) {
+      std::string known;
+      for (const CameraStatus& c : cameras) known += (known.empty() ? "" : ", ") + c.camera_id;
+      return Fail("no camera '" + id +
+                      "' on the domain (cameras: " + (known.empty() ? "none" : known) + ")",
+                  kExitFailure);
+    }
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int RecordCommand(const std::vector<std::string>& argv) {
@@ -113,14 +150,7 @@ int RecordCommand(const std::vector<std::string>& argv) {
   if (!out) return Fail(out.error(), kExitUsage);
   record::RecordOptions options;
   options.zstd = args->Has("--zstd");
-  const std::string frames = args->Get("--frames").value_or("none");
-  if (frames == "none") {
-    options.frames_every = 0;
-  } else if (frames == "every") {
-    options.frames_every = 1;
-  } else if (auto n = ParseDouble(frames); n && *n >= 1 && *n <= 1e6 && *n == std::floor(*n)) {
-    options.frames_every = static_cast<int>(*n);
-  } else {
+  if (!ParseFramesEvery(args->Get("--frames").value_or("none"), &options.frames_every)) {
     return Fail("--frames must be none, every, or a whole number N >= 1 (every Nth frame)",
                 kExitUsage);
   }
@@ -145,22 +175,7 @@ int RecordCommand(const std::vector<std::string>& argv) {
   if (!cameras) return Fail(cameras.error());
   const std::vector<std::string> wanted = args->GetAll("--camera");
   std::set<std::string> namespaces;
-  for (const std::string& id : wanted) {
-    bool found = false;
-    for (const CameraStatus& c : *cameras) {
-      if (c.camera_id == id || c.ros_namespace == id) {
-        namespaces.insert(c.ros_namespace);
-        found = true;
-      }
-    }
-    if (!found) {
-      std::string known;
-      for (const CameraStatus& c : *cameras) known += (known.empty() ? "" : ", ") + c.camera_id;
-      return Fail("no camera '" + id +
-                      "' on the domain (cameras: " + (known.empty() ? "none" : known) + ")",
-                  kExitFailure);
-    }
-  }
+  if (int status = NamespacesOf(wanted, *cameras, &namespaces); status != kExitOk) return status;
   if (wanted.empty()) {
     for (const CameraStatus& c : *cameras) namespaces.insert(c.ros_namespace);
   }
