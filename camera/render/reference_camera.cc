@@ -12,9 +12,8 @@ namespace {
 
 // Converged far past the renderers' needs (1e-4 px); OpenCV's default stops after 5 rounds.
 // OpenCV measures the criterion's error in pixels, where doubles resolve ~1e-13 px: at 1e-14
-// only an exact zero met it, the rest ran all 200 rounds, and a realistic corner view took
-// twice as long to render (72 views rendered and located: 19.0 -> 9.7 s; the located poses are
-// the same to six digits). 1e-10 px is met in a few rounds at these lenses' distortion.
+// only an exact zero met it and the rest ran all 200 rounds, doubling a realistic view's
+// render time. 1e-10 px is met in a few rounds at these lenses' distortion.
 const cv::TermCriteria kUndistortCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 200,
                                           1e-10);
 

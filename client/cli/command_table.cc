@@ -1,130 +1,81 @@
 #include "client/cli/command_table.h"
 
+#include <algorithm>
 #include <iostream>
 #include <set>
 #include <sstream>
 
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 
 namespace monocle::cli {
 
-const std::vector<CommandForm>& CommandForms() {
-  static const std::vector<CommandForm> forms = {
-      {0, "", "floor calibrate",
-       "floor calibrate IMAGE --calibration CAL.pbtxt --board COLSxROWS --square METRES\n"
-       "                [--method full|paper] [--write] [--json]",
-       "Camera height, pitch, yaw and roll from one image of a chessboard on the floor."},
-      {0, "", "floor measure",
-       "floor measure --calibration CAL.pbtxt [--pixel-sigma PX] [--json] POINT...",
-       "Robot-frame 3D points (metres) from floor pixels \"u,v\" or from pixels standing\n"
-       "vertically above a floor pixel \"u,v@fu,fv\"."},
-      {0, "", "floor project", "floor project --calibration CAL.pbtxt [--json] X,Y,Z...",
-       "The pixel where the calibrated camera sees each robot-frame point (metres)."},
-      {0, "", "floor map",
-       "floor map --calibration CAL.pbtxt --out MAP.png [--range M] [--pixel-sigma PX]",
-       "The floor from above: the camera's footprint and a floor point's 1-sigma as colour."},
-      {0, "", "corner locate",
-       "corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z] [--json] [--overlay "
-       "DIR]",
-       "Camera position and pan, tilt, swing from the ceiling corner in each image."},
-      {0, "", "corner locate",
-       "corner locate IMAGE... --calibration CAL.pbtxt --map MAP.pbtxt --mount MOUNT.pbtxt\n"
-       "              [--prior X,Y,HEADING_DEG] [--track] [--json]",
-       "The robot's pose in a room map from whichever corner is in view, and which corner."},
-      {0, "", "corner fit-mount",
-       "corner fit-mount IMAGE... --calibration CAL.pbtxt --mount MOUNT.pbtxt [--out NEW.pbtxt]",
-       "The tilt and roll of the camera's mount from images taken with the robot on the floor."},
-      {0, "", "map check", "map check MAP.pbtxt [--mount MOUNT.pbtxt]",
-       "Validates a room map and lists its rooms and ceiling corners."},
-      {0, "", "map draw",
-       "map draw MAP.pbtxt --out MAP.png [--trajectory FILE] [--poses POSES.jsonl]",
-       "The map from above with a true path and the poses located in it."},
-      {0, "", "intrinsics calibrate",
-       "intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt",
+const std::vector<CommandEntry>& Commands() {
+  static const std::vector<CommandEntry> commands = {
+      {"Measuring from images and calibration files:", "intrinsics calibrate",
        "Focal lengths, principal point and lens distortion from several board images."},
-      {0, "", "render corner",
-       "render corner --calibration CAL.pbtxt --pose X,Y,Z,PAN,TILT,SWING --out IMG.png\n"
-       "              [--noise SIGMA] [--seed N] [--clutter] [--lighting] [--realistic [--raw]]",
-       "Renders a room corner as the camera at that pose sees it."},
-      {0, "", "render room",
-       "render room --map MAP.pbtxt --mount MOUNT.pbtxt --calibration CAL.pbtxt\n"
-       "            (--pose X,Y,HEADING_DEG --out IMG.png | --trajectory FILE --out DIR)\n"
-       "            [--realistic [--raw]]",
-       "Renders what the robot's camera sees in a room of the map, at a pose or along a path."},
-      {0, "", "render floor",
-       "render floor --calibration CAL.pbtxt --board COLSxROWS --square METRES --out IMG.png\n"
-       "             [--noise SIGMA] [--seed N] [--board-origin X,Y] [--box X,Y,W,D,H]...",
-       "Renders a chessboard (and boxes) on the floor as the calibrated camera sees it."},
-      {0, "", "render boards",
-       "render boards --calibration CAL.pbtxt --board COLSxROWS --square METRES --views N\n"
-       "              --out-dir DIR [--seed N] [--spread good|fronto|corner]",
-       "Board views rendered with known intrinsics, to try or check `intrinsics calibrate`."},
-      {1,
-       "Live, from the running service (monocled) over DDS [--domain D] [--timeout S] [--security "
-       "DIR]:",
-       "corner locate", "corner locate --camera ID [--count N] [--follow] [--json]",
-       "The camera's poses as the service streams them."},
-      {1, "", "floor measure", "floor measure --camera ID [--pixel-sigma PX] [--json] POINT...",
-       "Points measured by the service with its current calibration of that camera."},
-      {1, "", "floor calibrate",
-       "floor calibrate --camera ID --board COLSxROWS --square METRES [--json]",
-       "The service calibrates the floor from the camera's next frame, stores and publishes it."},
-      {1, "", "view", "view --camera ID --out LIVE.png [--every S]",
+      {"", "floor calibrate",
+       "Camera height, pitch, yaw and roll from one image of a chessboard on the floor "
+       "(or the running service's camera: --camera ID)."},
+      {"", "floor measure",
+       "Robot-frame 3D points (metres) from floor pixels \"u,v\" or from pixels standing "
+       "vertically above a floor pixel \"u,v@fu,fv\" (or asked of the service: --camera ID)."},
+      {"", "floor project",
+       "The pixel where the calibrated camera sees each robot-frame point (metres)."},
+      {"", "floor map",
+       "The floor from above: the camera's footprint and a floor point's 1-sigma as colour."},
+      {"", "corner locate",
+       "Camera position and pan, tilt, swing from the ceiling corner in each image; the "
+       "robot's pose in a room map (--map); the service's poses (--camera ID)."},
+      {"", "corner fit-mount",
+       "The tilt and roll of the camera's mount from images taken with the robot on the floor."},
+      {"", "map check", "Validates a room map and lists its rooms and ceiling corners."},
+      {"", "map draw", "The map from above with a true path and the poses located in it."},
+      {"Live, from the running service (monocled) over DDS:", "view",
        "The camera's live frame with what the service measured in it drawn on it."},
-      {1, "", "status", "status [--watch] [--json]",
-       "The service's cameras: state, fps, dropped frames, latency, last error."},
-      {2, "", "record",
-       "record --out FILE.mcap [--camera ID]... [--frames none|every|N] [--duration S] [--zstd]",
+      {"", "status", "The service's cameras: state, fps, dropped frames, latency, last error."},
+      {"", "record",
        "Records the service's poses, calibrations, status, requests, replies and frames (MCAP)."},
-      {3, "", "security init", "security init DIR [--client NAME[:reader|operator]]...",
-       "A DDS Security keystore: a CA, identities for monocled and each client, permissions."},
-      {4, "", "cameras", "cameras [--json]",
-       "Lists the GigE Vision and USB3 Vision cameras Aravis sees."},
-      {4, "", "snapshot", "snapshot CAMERA --out IMG.png",
-       "Grabs one frame from a camera given by id, IP address or serial."},
-      {4, "", "info", "info FILE.mcap [--json]",
+      {"Recordings, cameras and simulation:", "info",
        "What a recording holds: time span, cameras, messages per topic."},
-      {4, "", "replay", "replay FILE.mcap [--camera ID] [--rate X] [--json]",
+      {"", "replay",
        "A recording's frames through monocled's corner pipeline again: one pose per frame."},
-      {4, "", "simcam",
-       "simcam --scene corner|floor [--ip 127.0.0.1] [--width W --height H --fps F] [--truth FILE]",
-       "Serves a simulated GigE Vision camera whose frames are rendered scenes."},
+      {"", "cameras", "Lists the GigE Vision and USB3 Vision cameras Aravis sees."},
+      {"", "snapshot", "Grabs one frame from a camera given by id, IP address or serial."},
+      {"", "simcam", "Serves a simulated GigE Vision camera whose frames are rendered scenes."},
+      {"", "render corner", "Renders a room corner as the camera at that pose sees it."},
+      {"", "render room",
+       "Renders what the robot's camera sees in a room of the map, at a pose or along a path."},
+      {"", "render floor",
+       "Renders a chessboard (and boxes) on the floor as the calibrated camera sees it."},
+      {"", "render boards",
+       "Board views rendered with known intrinsics, to try or check `intrinsics calibrate`."},
+      {"Security:", "security init",
+       "A DDS Security keystore: a CA, identities for monocled and each client, permissions."},
   };
-  return forms;
+  return commands;
 }
 
 std::vector<std::string> CommandNames() {
   std::vector<std::string> names;
   std::set<std::string> seen;
-  for (const CommandForm& form : CommandForms())
-    if (seen.insert(form.name).second) names.push_back(form.name);
+  for (const CommandEntry& command : Commands())
+    if (seen.insert(command.name).second) names.push_back(command.name);
   return names;
 }
-
-namespace {
-
-// Each line of `text` with `indent` before it.
-void Indented(std::ostream& out, const std::string& text, const std::string& indent) {
-  std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) out << indent << line << "\n";
-}
-
-}  // namespace
 
 std::string TopLevelUsage() {
   std::ostringstream out;
   out << "monocle — measurements from one camera on a mobile robot\n\n"
-         "Usage: monocle COMMAND [ARGS...]    (monocle COMMAND --help for details)\n\n"
-         "Commands:\n";
-  int group = CommandForms().front().group;
-  for (const CommandForm& form : CommandForms()) {
-    if (form.group != group) out << "\n";
-    group = form.group;
-    if (*form.heading != '\0') out << form.heading << "\n";
-    Indented(out, form.synopsis, "  ");
-    Indented(out, form.summary, "      ");
+         "Usage: monocle COMMAND [ARGS...]    (monocle COMMAND --help for its options)\n";
+  for (const CommandEntry& command : Commands()) {
+    if (*command.heading != '\0') out << "\n" << command.heading << "\n";
+    const std::string name = command.name;
+    out << "  " << name << std::string(std::max<size_t>(22 - name.size(), 2), ' ')
+        << WrapText(command.summary, 24, 24, 96) << "\n";
   }
-  out << "\nmonocle help --markdown prints the reference of every command (client/cli/README.md).\n"
+  out << "\nLive forms take --domain D, --timeout S and --security DIR (`monocle security init`).\n"
+         "monocle help --markdown prints the reference of every command (client/cli/README.md).\n"
          "Exit status: 0 success, 1 a measurement or input failed, 2 wrong command line.\n";
   return out.str();
 }
@@ -181,17 +132,16 @@ std::string Anchor(const std::string& name) {
 
 void PrintReference(std::ostream& out) {
   out << "# `monocle` command reference\n\n"
-         "Generated by `monocle help --markdown` from the commands' own `--help`; do not edit by\n"
-         "hand (`command_reference_test` fails when this page and the program differ). How to\n"
-         "use the commands, task by task: [GUIDE.md](GUIDE.md).\n\n"
+         "Generated by `monocle help --markdown` from the commands' own `--help`, which each\n"
+         "command makes from its declared options (command_line.h); do not edit by hand\n"
+         "(`command_reference_test` fails when this page and the program differ). How to use\n"
+         "the commands, task by task: [GUIDE.md](GUIDE.md).\n\n"
          "| command | what |\n|---|---|\n";
-  std::set<std::string> listed;
-  for (const CommandForm& form : CommandForms()) {
-    if (!listed.insert(form.name).second) continue;
-    std::string summary = form.summary;
+  for (const CommandEntry& command : Commands()) {
+    std::string summary = command.summary;
     for (char& c : summary)
       if (c == '\n') c = ' ';
-    out << "| [`" << form.name << "`](#" << Anchor(form.name) << ") | " << summary << " |\n";
+    out << "| [`" << command.name << "`](#" << Anchor(command.name) << ") | " << summary << " |\n";
   }
   out << "\n## Usage\n\n```\n" << TopLevelUsage() << "```\n";
   for (const std::string& name : CommandNames())

@@ -1,7 +1,7 @@
-// Every command of the `monocle` tool, declared once: its name, its synopsis and what it is
-// for. The top-level usage, `monocle help --list` and the command reference page
-// (client/cli/README.md, `monocle help --markdown`) are all generated from this table, and the
-// help test walks it, so a command cannot be left out of any of them.
+// Every command of the `monocle` tool, listed once: its name and what it is for. The top-level
+// usage, `monocle help --list` and the command reference page (client/cli/README.md, `monocle
+// help --markdown`) are generated from this table and each command's own declarations (its
+// --help), and the help test walks it, so a command cannot be left out of any of them.
 #pragma once
 
 #include <ostream>
@@ -10,16 +10,14 @@
 
 namespace monocle::cli {
 
-struct CommandForm {
-  int group;            // forms of one group are printed together, groups apart
-  const char* heading;  // printed above this form's group when not empty
+struct CommandEntry {
+  const char* heading;  // printed above this command when not empty: a new group starts
   const char* name;     // the command's words, e.g. "floor calibrate"
-  const char* synopsis;
-  const char* summary;
+  const char* summary;  // what it is for, one or two lines
 };
 
-// In the order the usage prints them; a command with several forms has several entries.
-const std::vector<CommandForm>& CommandForms();
+// In the order the usage prints them.
+const std::vector<CommandEntry>& Commands();
 
 // Each command once, in table order.
 std::vector<std::string> CommandNames();

@@ -23,6 +23,8 @@ int CornerCommand(const std::vector<std::string>& args);
 int FitMountCommand(const std::vector<std::string>& args);
 // cameras, snapshot, simcam
 int CameraCommand(const std::string& command, const std::vector<std::string>& args);
+// simcam (simcam_command.cc).
+int SimcamCommand(const std::vector<std::string>& args);
 int IntrinsicsCommand(const std::vector<std::string>& args);
 int RenderCommand(const std::vector<std::string>& args);
 int RenderBoards(const std::vector<std::string>& args);  // render boards
@@ -53,7 +55,5 @@ Status WriteImage(const std::string& path, const cv::Mat& image);
 
 // One-line JSON of a protobuf message, keys as in the .proto.
 std::string ToJson(const google::protobuf::Message& message);
-
-bool WantsHelp(const std::vector<std::string>& args);
 
 }  // namespace monocle::cli

@@ -23,11 +23,4 @@ Status WriteImage(const std::string& path, const cv::Mat& image) {
 
 std::string ToJson(const google::protobuf::Message& message) { return ProtoToJson(message); }
 
-bool WantsHelp(const std::vector<std::string>& args) {
-  for (const auto& a : args) {
-    if (a == "--help" || a == "-h") return true;
-  }
-  return false;
-}
-
 }  // namespace monocle::cli

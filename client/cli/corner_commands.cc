@@ -12,12 +12,13 @@
 #include <optional>
 #include <sstream>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
 #include "client/cli/corner_setup.h"
 #include "client/cli/live.h"
 #include "client/cli/map_output.h"
+#include "client/cli/shared_options.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/pipeline/corner_pipeline.h"
@@ -25,65 +26,28 @@
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kLocateHelp =
-    R"(Usage: monocle corner locate IMAGE... --calibration CAL.pbtxt [--ceiling-distance Z]
-                             [--mount MOUNT.pbtxt [--level-sigma DEG]]
-                             [--json] [--overlay DIR] [--track [--detect-every N]]
-       monocle corner locate IMAGE... --calibration CAL.pbtxt --map MAP.pbtxt --mount MOUNT.pbtxt
-                             [--prior X,Y,HEADING_DEG] [--track] [--json] [--overlay DIR]
+struct LocateArgs {
+  std::vector<std::string> images;
+  std::string calibration_path;
+  CornerArgs corner;
+  std::optional<std::string> overlay;
+  bool track = false;
+  bool json = false;
+  LiveOptions live;
+  int count = 1;
+  bool follow = false;
+};
 
-Finds the ceiling corner (two ceiling edges and the vertical wall edge meeting in a Y) in
+constexpr const char* kLocateAbout =
+    R"(Finds the ceiling corner (two ceiling edges and the vertical wall edge meeting in a Y) in
 each image and computes the camera's pose in the corner frame (Chou & Tsai 1986): origin
 at the corner, X and Y along the ceiling edges, Z down the vertical edge, room at x, y,
 z > 0. Position x, y, z in metres (z = the camera-to-ceiling distance), pan, tilt, swing in
 radians as the paper's eq. (1) (tilt 0 looks straight up, swing 0 is an upright camera).
+With --map, the robot's pose in a room map from whichever corner is in view, and which.)";
 
-  --calibration CAL.pbtxt  intrinsics (pixels are undistorted first) and optionally
-                           corner { ceiling_distance }
-  --ceiling-distance Z     camera optical centre to ceiling, metres (overrides the file)
-  --json                   one JSON object per line: image x y z pan tilt swing
-                           quaternion corner_px rms_px sigma lines (with each edge's
-                           support) source suspect [suspect_reason] noise_grey
-                           [shading_shift_m] [measured_again], or image error
-  --overlay DIR            write DIR/<image>.overlay.png: the edges measured (thick), the
-                           edges the pose predicts (thin white, to the border), each edge's
-                           support (length, coverage, contrast/noise, misfit, its part
-                           of the position's variance), the pose;
-                           without a pose, the straight edges seen and why
-  --track                  the images are an ordered sequence (frames of a video): predict
-                           the three edges from the previous pose and measure them there
-                           first; a full detection when that fails, when the tracked pose is
-                           suspect, and every --detect-every N images (default 30). Each
-                           result says "tracked" or "detected".
-  --mount MOUNT.pbtxt      the camera rides a robot standing level (a CameraMount, e.g.
-                           idl/examples/camera_mount.pbtxt): the mount fixes the camera's tilt
-                           and swing, which are combined with the image's. The weakly
-                           determined views gain most (client/cli/GUIDE.md, "On a robot:
-                           the mount's level"). A pose that tips the robot more than 1 degree from level,
-                           and more than its own 1 sigma allows, is SUSPECT and left as
-                           solved. JSON adds level_error_deg (how far the pose as solved
-                           tipped the robot) and level_sigma_deg
-  --level-sigma DEG        how level the robot stands: 1 sigma about each horizontal axis
-                           (the floor's slope, the suspension, the mount's own error), degrees
-                           (default 0.3); with --map too
-
-In a map (service/README.md, "Room map"), instead of one corner's frame:
-  --map MAP.pbtxt          the rooms and their ceiling corners (idl/room_map.proto); every
-                           corner is tried and the one consistent with the view is named:
-                           the base's x, y (metres) and heading (degrees from the map's +x
-                           towards +y) in the map frame with their 1 sigma, and the camera's
-                           pose there. Several corners fit: "ambiguous" with every candidate;
-                           none is guessed.
-  --mount MOUNT.pbtxt      the camera's pose on the robot base (a CameraMount; its z is the
-                           optical centre's height above the floor, so each corner's ceiling
-                           distance follows from the map: no --ceiling-distance)
-  --prior X,Y,HEADING_DEG  where the robot is (metres, degrees): decides between look-alike
-                           corners; with --track only the first image's, after which each
-                           located pose is the next image's prior (gates 0.5 m and 0.5 rad,
-                           wider by 0.1 for every image without a pose)
-An image whose pose in the map is not decided counts as failed for the exit status.
-
-Every pose says how well the image supports it: per edge the length found, its contrast
+constexpr const char* kLocateFooter =
+    R"(Every pose says how well the image supports it: per edge the length found, its contrast
 against the image's noise (noise_grey: as an edge measurement averaging pixels sees it, so
 JPEG frames and raw frames read alike), how far its points lie from the pose's line, and
 what part of the position's variance it gives (position_variance_share: the edge that
@@ -94,7 +58,8 @@ is a pose that rolls the camera more than 45 degrees about its axis (a floor cor
 as the ceiling's): a camera mounted rolled further sets corner { max_swing: RADIANS } in its
 calibration file. A Y flagged for its edges or its roll gives way to the next Y in the
 image whose pose is flagged for nothing but its 1 sigma; only where there is none is it
-printed, flagged.
+printed, flagged. With --mount, a pose that tips the robot more than 1 degree from level,
+and more than its own 1 sigma allows, is SUSPECT and left as solved.
 Where the 1 sigma is over 0.4 % of the distance, the shading beside the edges is read and
 the shift it causes (shading_shift_m, x and y in metres) is removed and counted in the
 1 sigma: a surface brightening away from a faint edge moves all its points one way.
@@ -102,30 +67,54 @@ Over 0.6 %, the edges are first measured again along the fitted lines with a wid
 (1.9x the edge's blur, not 1.6x), which locates a faint edge more precisely; its larger
 shading bias is what the correction then removes (measured_again in the JSON).
 
-Live, from the running service (monocled) over DDS, instead of IMAGE files:
-  --camera ID              the camera's poses as monocled publishes them (same JSON as
-                           above, inside {camera, sequence, capture_time_ns, time_source,
-                           pose})
-  --count N                stop after N poses (default 1); --follow: until Ctrl-C
-  --domain D               DDS domain id (default 0); --timeout S: give up after S seconds
-                           without a pose (default 10)
-  --security DIR           this client's identity of a secured service's keystore
-                           (`monocle security init`; default $MONOCLE_SECURITY)
-
 Any image OpenCV reads (PNG, PGM, JPEG, ...). An image without a corner is reported and
-the others are still processed; the exit status is 1 if any image failed.
-)";
+the others are still processed; the exit status is 1 if any image failed, or if an image's
+pose in the map is not decided.)";
+
+void DeclareLocate(CommandLine& line, LocateArgs* a) {
+  line.Footer(kLocateFooter);
+  line.Flag("--json", &a->json,
+            "one JSON object per line: image x y z pan tilt swing quaternion corner_px rms_px "
+            "sigma lines (with each edge's support) source suspect [suspect_reason] noise_grey "
+            "[shading_shift_m] [measured_again] [map] [level_error_deg level_sigma_deg], or "
+            "image error; live: the same inside {camera, sequence, capture_time_ns, "
+            "time_source, pose}");
+  line.InForms({0});
+  line.Positionals("IMAGE", &a->images, "an image of the ceiling corner");
+  line.Text("--calibration", &a->calibration_path, "CAL.pbtxt",
+            "intrinsics (pixels are undistorted first) and optionally corner { "
+            "ceiling_distance }");
+  line.Require("--calibration");
+  DeclareCeilingDistance(line, &a->corner, "overrides the calibration file's");
+  line.Text("--overlay", &a->overlay, "DIR",
+            "write DIR/<image>.overlay.png: the edges measured (thick), the edges the pose "
+            "predicts (thin white, to the border), each edge's support (length, coverage, "
+            "contrast/noise, misfit, its part of the position's variance), the pose; without a "
+            "pose, the straight edges seen and why");
+  line.Flag("--track", &a->track,
+            "the images are an ordered sequence (frames of a video): predict the three edges "
+            "from the previous pose and measure them there first; a full detection when that "
+            "fails, when the tracked pose is suspect, and every --detect-every N images. Each "
+            "result says \"tracked\" or \"detected\"");
+  DeclareCornerSetup(line, &a->corner, "images");
+  line.Form("Live, from the running service (monocled) over DDS, instead of IMAGE files",
+            "a live camera's poses come as monocled's configuration makes them (mount, "
+            "level_sigma_deg, room_map, initial_pose)");
+  line.Text("--camera", &a->live.camera, "ID", "the camera's poses as monocled publishes them");
+  line.Require("--camera");
+  line.Whole("--count", &a->count, "N", "stop after N poses", In("poses").AtLeast(1));
+  line.Flag("--follow", &a->follow, "print poses until Ctrl-C");
+  DeclareServiceOptions(line, &a->live, "give up after S seconds without a pose");
+}
 
 // Poses of a camera of the running service, over DDS.
-int LocateLive(const Args& args) {
-  const std::string camera = *args.Get("--camera");
-  const auto count = args.GetDouble("--count", 1);
-  if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
-  const auto timeout_s = args.GetDouble("--timeout", 10);
+int LocateLive(const LocateArgs& a) {
+  const std::string& camera = *a.live.camera;
+  const double timeout_s = a.live.timeout_s;
   int status = kExitOk;
-  auto client = OpenClient(args, &status);
+  auto client = OpenClient(a.live, &status);
   if (!client) return status;
-  const bool follow = args.Has("--follow");
+  const bool follow = a.follow;
   // Poses arrive on the subscription's thread; printed here, in order.
   std::mutex mutex;
   std::condition_variable arrived;
@@ -139,20 +128,20 @@ int LocateLive(const Args& args) {
       camera);
   if (!subscription) return Fail(subscription.error());
   int printed = 0;
-  while (follow || printed < *count) {
+  while (follow || printed < a.count) {
     std::unique_lock<std::mutex> lock(mutex);
-    if (!arrived.wait_for(lock, std::chrono::duration<double>(*timeout_s),
+    if (!arrived.wait_for(lock, std::chrono::duration<double>(timeout_s),
                           [&] { return !queue.empty(); })) {
       return Fail("no pose from camera '" + camera + "' on DDS domain " +
-                      std::to_string(static_cast<int>(*args.GetDouble("--domain", 0))) +
-                      " within " + std::to_string(static_cast<int>(*timeout_s)) +
+                      std::to_string(a.live.domain) + " within " +
+                      std::to_string(static_cast<int>(timeout_s)) +
                       " s: is monocled running with that camera and domain?",
                   kExitFailure);
     }
     const Pose pose = std::move(queue.front());
     queue.pop_front();
     lock.unlock();
-    if (args.Has("--json")) {
+    if (a.json) {
       std::cout << ToJson(ToLiveOutput(pose)) << std::endl;
     } else if (!pose.valid) {
       std::cout << camera << " frame " << pose.frame_sequence << "  error: " << pose.error
@@ -184,62 +173,37 @@ int LocateLive(const Args& args) {
 }
 
 int Locate(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kLocateHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(argv, {{"--calibration", "--ceiling-distance", "--overlay", "--camera",
-                                  "--count", "--domain", "--timeout", "--security",
-                                  "--detect-every", "--map", "--mount", "--prior", "--level-sigma"},
-                                 {"--json", "--follow", "--track"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (args->Has("--camera")) {
-    // The service applies its own configuration; these would be silently ignored here.
-    for (const char* offline : {"--mount", "--level-sigma", "--map", "--prior"}) {
-      if (args->Get(offline)) {
-        return Fail(std::string(offline) +
-                        " applies to IMAGE files; a live camera's poses come as monocled's "
-                        "configuration makes them (mount, level_sigma_deg, room_map, "
-                        "initial_pose)",
-                    kExitUsage);
-      }
-    }
-    return LocateLive(*args);
-  }
-  if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
-  const auto cal_path = args->Require("--calibration");
-  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
-  const auto calibration = LoadCalibrationFile(*cal_path);
+  LocateArgs a;
+  CommandLine line("corner locate", kLocateAbout);
+  DeclareLocate(line, &a);
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
+  if (a.live.camera) return LocateLive(a);
+  const auto calibration = LoadCalibrationFile(a.calibration_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
-  const auto level_sigma_rad = LevelSigmaRad(*args);
-  if (!level_sigma_rad) return Fail(level_sigma_rad.error(), kExitUsage);
-  auto setup = CornerSetupFromArgs(*args, *level_sigma_rad);
+  auto setup = CornerSetupFrom(a.corner);
   if (!setup) return Fail(setup.error(), UsageOrFailure(setup.error()));
   CornerPipelineOptions options = std::move(*setup);
   // In a map each corner's ceiling distance follows from the mount: solve at any one of
   // them (the map scales the pose to each corner's).
   if (!options.room_map) {
     const auto z =
-        CeilingDistanceM(*args, calibration->ceiling_distance_m, *cal_path,
+        CeilingDistanceM(a.corner, calibration->ceiling_distance_m, a.calibration_path,
                          " (or locate in a room map: --map MAP.pbtxt --mount MOUNT.pbtxt)");
     if (!z) return Fail(z.error(), kExitUsage);
     options.ceiling_distance_m = *z;
   }
-  const auto overlay = args->Get("--overlay");
+  const auto& overlay = a.overlay;
   if (overlay) {
     std::error_code ec;
     std::filesystem::create_directories(*overlay, ec);
     if (ec)
       return Fail("cannot create overlay folder '" + *overlay + "': " + ec.message(), kExitFailure);
   }
-  const bool json = args->Has("--json");
-  const auto detect_every = DetectEvery(*args, "images");
-  if (!detect_every) return Fail(detect_every.error(), kExitUsage);
-  options.tracking.detect_every_n_frames = *detect_every;
-  options.track = args->Has("--track");
+  const bool json = a.json;
+  options.track = a.track;
   CornerPipeline pipeline(std::move(options));
   bool any_failed = false;
-  for (const auto& path : args->positionals()) {
+  for (const auto& path : a.images) {
     const auto image = ReadGreyImage(path);
     CornerPipelineResult located;
     if (image) {

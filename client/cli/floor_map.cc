@@ -44,7 +44,7 @@ Result<cv::Mat> SigmaGrid(const CameraCalibration& calibration, const FloorMapOp
   const FloorPose& pose = calibration.floor->pose;
   auto cell_x = [&](int c) { return -o.range_m + (c + 0.5) * o.cell_m; };
   auto cell_y = [&](int r) { return o.range_m - (r + 0.5) * o.cell_m; };  // row 0: farthest
-  std::vector<PixelPair> pixels;
+  std::vector<PixelQuery> pixels;
   std::vector<int> cell_of;  // index r * cols + c of each pixel asked
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
@@ -53,7 +53,7 @@ Result<cv::Mat> SigmaGrid(const CameraCalibration& calibration, const FloorMapOp
           (*px)(1) > k.height_px - 1) {
         continue;  // behind the camera or outside the image: not seen
       }
-      pixels.push_back(PixelPair{(*px)(0), (*px)(1), false, 0, 0});
+      pixels.push_back(PixelQuery{(*px)(0), (*px)(1), std::nullopt});
       cell_of.push_back(r * cols + c);
     }
   }
@@ -61,17 +61,16 @@ Result<cv::Mat> SigmaGrid(const CameraCalibration& calibration, const FloorMapOp
   const std::map<std::string, CameraCalibration> cameras{{"map", calibration}};
   for (size_t start = 0; start < pixels.size(); start += kMaxPointsPerRequest) {
     const size_t n = std::min(kMaxPointsPerRequest, pixels.size() - start);
-    const std::vector<PixelPair> batch(pixels.begin() + static_cast<std::ptrdiff_t>(start),
-                                       pixels.begin() + static_cast<std::ptrdiff_t>(start + n));
+    const std::vector<PixelQuery> batch(pixels.begin() + static_cast<std::ptrdiff_t>(start),
+                                        pixels.begin() + static_cast<std::ptrdiff_t>(start + n));
     const RequestAnswer answer = AnswerPointRequest(cameras, "map", batch, o.pixel_sigma_px);
     if (answer.status != RequestStatus::kAnswered) {
       return MakeError(ErrorCode::kInvalidArgument, answer.error);
     }
     for (size_t i = 0; i < n; ++i) {
-      const PointAnswer& p = answer.points[i];
-      if (p.status != PointStatus::kMeasured) continue;  // near the horizon: not measurable
-      const Eigen::Vector3d s = p.measurement.Sigma();
-      grid.at<double>(cell_of[start + i]) = std::hypot(s.x(), s.y());
+      const MeasuredPoint& p = answer.points[i];
+      if (!p.ok()) continue;  // near the horizon: not measurable
+      grid.at<double>(cell_of[start + i]) = std::hypot(p.sigma_m[0], p.sigma_m[1]);
     }
   }
   return grid;

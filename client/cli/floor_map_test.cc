@@ -41,14 +41,14 @@ TEST(FloorMap, EachCellShowsFloorMeasuresSigmaForThePixelThatSeesIt) {
     const auto px = ProjectRobotPoint(cal.intrinsics, cal.floor->pose, Eigen::Vector3d(x, y, 0));
     ASSERT_TRUE(px.has_value());
     const RequestAnswer a = AnswerPointRequest(
-        {{"c", cal}}, "c", {PixelPair{px->x(), px->y(), false, 0, 0}}, o.pixel_sigma_px);
+        {{"c", cal}}, "c", {PixelQuery{px->x(), px->y(), std::nullopt}}, o.pixel_sigma_px);
     ASSERT_EQ(a.points.size(), 1u);
     if (a.points[0].status != PointStatus::kMeasured) continue;
     // The pixel sees the floor point the map put there (a round trip through the model).
-    EXPECT_NEAR(a.points[0].measurement.p_robot_m.x(), x, 1e-6);
-    EXPECT_NEAR(a.points[0].measurement.p_robot_m.y(), y, 1e-6);
-    const Eigen::Vector3d s = a.points[0].measurement.Sigma();
-    EXPECT_NEAR(shown, std::hypot(s.x(), s.y()), 1e-12) << x << "," << y;
+    EXPECT_NEAR(a.points[0].p_robot_m[0], x, 1e-6);
+    EXPECT_NEAR(a.points[0].p_robot_m[1], y, 1e-6);
+    const auto& s = a.points[0].sigma_m;
+    EXPECT_NEAR(shown, std::hypot(s[0], s[1]), 1e-12) << x << "," << y;
     ++checked;
   }
   EXPECT_GE(checked, 3);

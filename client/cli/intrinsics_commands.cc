@@ -10,9 +10,10 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/progress.h"
+#include "client/cli/shared_options.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/vision/chessboard.h"
@@ -21,41 +22,58 @@
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kHelp =
-    R"(Usage: monocle intrinsics calibrate IMAGE... --board COLSxROWS --square METRES --out CAL.pbtxt
-                                     [--model auto|k1k2|k1k2p1p2|k1k2p1p2k3] [--drop-outliers]
-                                     [--overlay DIR] [--json]
-
-Calibrates focal lengths (fx, fy, pixels), principal point (cx, cy, pixels) and lens
+constexpr const char* kAbout =
+    R"(Calibrates focal lengths (fx, fy, pixels), principal point (cx, cy, pixels) and lens
 distortion (OpenCV's model) from images of a chessboard seen from different places and
 angles, and reports how sure it is: each parameter with its 1 sigma (the full covariance
 goes into CAL.pbtxt, and floor calibrations and measurements made with it include it).
 
 Good views: 10-20 images, the board near every corner and edge of the image and in its
-middle, tilted 20-45 degrees in different directions, sharp and evenly lit.
+middle, tilted 20-45 degrees in different directions, sharp and evenly lit.)";
 
-  --board COLSxROWS  inner corners of the board, e.g. 9x6 (required)
-  --square METRES    side of one square, metres (required)
-  --out CAL.pbtxt    calibration file to write atomically (required). Its corner section
-                     is kept; a floor section is removed (it was fitted with the old
-                     intrinsics: calibrate the floor again)
-  --model M          distortion model: k1k2 (radial), k1k2p1p2 (+ tangential),
-                     k1k2p1p2k3 (+ a third radial term, wide-angle lenses), or auto
-                     (default): the smallest model the data support, by the Bayesian
-                     information criterion; the choice and its reason are printed
-  --drop-outliers    refit without the views whose RMS exceeds 3x the median view's
-                     (they are always named)
-  --overlay DIR      write DIR/<image>.png per view (detected corners, each corner's
-                     residual magnified 100x as a red line, corners left out as blunders
-                     as red circles) and DIR/coverage.png (where
-                     in the image corners were seen)
-  --json             print one JSON object (idl/cli_output.proto IntrinsicsOutput)
-
-Warnings (on stderr, and in the JSON) say when the views do not constrain the model:
+constexpr const char* kFooter =
+    R"(Warnings (on stderr, and in the JSON) say when the views do not constrain the model:
 too few views (< 10), boards covering < 30 % of the image or missing its corners, no
 tilt above 15 degrees, or a 1 sigma of fx above 0.3 % or of cx, cy above 0.3 % of the
-image size.
-)";
+image size.)";
+
+struct IntrinsicsArgs {
+  std::vector<std::string> images;
+  BoardOptions board;
+  std::string out_path;
+  IntrinsicCalibrationOptions options;
+  std::optional<std::string> overlay_dir;
+  bool json = false;
+};
+
+void DeclareIntrinsics(CommandLine& line, IntrinsicsArgs* a) {
+  line.Footer(kFooter);
+  line.Positionals("IMAGE", &a->images, "a picture of the chessboard", 3);
+  DeclareBoard(line, &a->board);
+  line.Text("--out", &a->out_path, "CAL.pbtxt",
+            "calibration file to write atomically. Its corner section is kept; a floor section "
+            "is removed (it was fitted with the old intrinsics: calibrate the floor again)");
+  line.Require("--out");
+  line.Custom("--model", "auto|k1k2|k1k2p1p2|k1k2p1p2k3",
+              "distortion model: k1k2 (radial), k1k2p1p2 (+ tangential), k1k2p1p2k3 (+ a third "
+              "radial term, wide-angle lenses), or auto (default): the smallest model the data "
+              "support, by the Bayesian information criterion; the choice and its reason are "
+              "printed",
+              [a](const std::string& text) -> std::optional<std::string> {
+                const auto model = ParseDistortionModel(text);
+                if (!model) return model.error().message;
+                a->options.model = *model;
+                return std::nullopt;
+              });
+  line.Flag("--drop-outliers", &a->options.drop_outliers,
+            "refit without the views whose RMS exceeds 3x the median view's (they are always "
+            "named)");
+  line.Text("--overlay", &a->overlay_dir, "DIR",
+            "write DIR/<image>.png per view (detected corners, each corner's residual magnified "
+            "100x as a red line, corners left out as blunders as red circles) and "
+            "DIR/coverage.png (where in the image corners were seen)");
+  line.Flag("--json", &a->json, "print one JSON object (idl/cli_output.proto IntrinsicsOutput)");
+}
 
 constexpr double kResidualMagnification = 100;
 
@@ -271,28 +289,20 @@ Status WriteIntrinsics(const std::string& path, const IntrinsicCalibration& cal,
 }  // namespace
 
 int IntrinsicsCommand(const std::vector<std::string>& argv) {
-  if (argv.empty() || argv[0] != "calibrate" || WantsHelp(argv)) {
-    std::cout << kHelp;
-    return WantsHelp(argv) ? kExitOk : kExitUsage;
+  IntrinsicsArgs a;
+  CommandLine line("intrinsics calibrate", kAbout);
+  DeclareIntrinsics(line, &a);
+  if (argv.empty() || argv[0] != "calibrate") {
+    if (argv.empty() || (argv[0] != "--help" && argv[0] != "-h"))
+      return Fail("intrinsics takes a command: calibrate (see --help)", kExitUsage);
+    std::cout << line.Help();
+    return kExitOk;
   }
-  auto args = Args::Parse(
-      {argv.begin() + 1, argv.end()},
-      {{"--board", "--square", "--out", "--model", "--overlay"}, {"--json", "--drop-outliers"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  const auto out_path = args->Require("--out");
-  if (!out_path) return Fail(out_path.error(), kExitUsage);
-  const auto spec = RequireBoard(*args);
-  if (!spec) return Fail(spec.error(), kExitUsage);
-  IntrinsicCalibrationOptions options;
-  if (const auto m = args->Get("--model")) {
-    const auto model = ParseDistortionModel(*m);
-    if (!model) return Fail(model.error(), kExitUsage);
-    options.model = *model;
-  }
-  options.drop_outliers = args->Has("--drop-outliers");
-  const auto& paths = args->positionals();
-  if (paths.size() < 3) return Fail("give at least 3 board images (see --help)", kExitUsage);
-  const auto overlay_dir = args->Get("--overlay");
+  if (const auto exit_now = line.Parse({argv.begin() + 1, argv.end()})) return *exit_now;
+  const auto& paths = a.images;
+  const auto& overlay_dir = a.overlay_dir;
+  const std::string& out_path = a.out_path;
+  const IntrinsicCalibrationOptions& options = a.options;
   if (overlay_dir) {
     std::error_code ec;
     std::filesystem::create_directories(*overlay_dir, ec);
@@ -304,7 +314,7 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   proto::IntrinsicsOutput out;
   std::vector<IntrinsicView> views;
   cv::Size size;
-  if (int status = DetectBoards(paths, *spec, &out, &views, &size); status != kExitOk)
+  if (int status = DetectBoards(paths, a.board.Spec(), &out, &views, &size); status != kExitOk)
     return status;
   ProgressLine progress("calibrating", 1);
   progress.Message("calibrating from " + std::to_string(views.size()) + " of " +
@@ -319,19 +329,19 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   progress.Done();
   if (!cal) return Fail(cal.error(), kExitFailure);
   bool floor_removed = false;
-  if (Status saved = WriteIntrinsics(*out_path, *cal, &floor_removed); !saved)
+  if (Status saved = WriteIntrinsics(out_path, *cal, &floor_removed); !saved)
     return Fail(saved.error(), kExitFailure);
   if (overlay_dir) {
     if (Status w = WriteOverlays(*overlay_dir, views, *cal, size); !w)
       return Fail(w.error(), kExitFailure);
   }
-  FillOutput(*cal, *out_path, floor_removed, &out);
-  PrintWarnings(*cal, *out_path, floor_removed);
-  if (args->Has("--json")) {
+  FillOutput(*cal, out_path, floor_removed, &out);
+  PrintWarnings(*cal, out_path, floor_removed);
+  if (a.json) {
     std::cout << ToJson(out) << "\n";
     return kExitOk;
   }
-  PrintText(*cal, views.size(), paths.size(), *out_path);
+  PrintText(*cal, views.size(), paths.size(), out_path);
   return kExitOk;
 }
 

@@ -8,33 +8,6 @@
 
 namespace monocle::cli {
 
-std::optional<Client> OpenClient(const Args& args, int* exit_status, double default_timeout_s) {
-  const auto domain = args.GetDouble("--domain", 0);
-  const auto timeout_s = args.GetDouble("--timeout", default_timeout_s);
-  if (!domain || *domain < 0 || *domain > 232 || *domain != std::floor(*domain)) {
-    *exit_status = Fail("--domain must be a DDS domain id, 0..232", kExitUsage);
-    return std::nullopt;
-  }
-  if (!timeout_s || !(*timeout_s > 0)) {
-    *exit_status = Fail("--timeout must be a positive number of seconds", kExitUsage);
-    return std::nullopt;
-  }
-  Client::Options options;
-  options.domain = static_cast<int>(*domain);
-  options.timeout = std::chrono::milliseconds(static_cast<int64_t>(*timeout_s * 1000));
-  if (auto dir = args.Get("--security")) {
-    options.security_dir = *dir;
-  } else if (const char* env = std::getenv("MONOCLE_SECURITY"); env != nullptr && *env != 0) {
-    options.security_dir = env;
-  }
-  auto client = Client::open(options);
-  if (!client) {
-    *exit_status = Fail(client.error());
-    return std::nullopt;
-  }
-  return std::move(client).value();
-}
-
 int Fail(const ClientError& error) { return Fail(error.message, kExitFailure); }
 
 proto::LivePoseOutput ToLiveOutput(const Pose& s) {

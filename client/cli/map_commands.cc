@@ -9,7 +9,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/map_picture.h"
 #include "service/io/base_trajectory_file.h"
@@ -29,30 +29,16 @@ constexpr const char* kOverview = R"(Usage: monocle map check|draw ...
 service/README.md, "Room map" explains the files (examples in idl/examples/).
 )";
 
-constexpr const char* kCheckHelp = R"help(Usage: monocle map check MAP.pbtxt [--mount MOUNT.pbtxt]
-
-Reads a room map (idl/room_map.proto, text format) as `corner locate --map` and monocled do,
+constexpr const char* kCheckAbout =
+    R"text(Reads a room map (idl/room_map.proto, text format) as `corner locate --map` and monocled do,
 and says what it holds: each room's outline, floor area and ceiling height, and each ceiling
 corner a camera can locate itself by (listed in the file, or every right-angle vertex with
 the room inside it) with the headings of its X and Y ceiling edges (degrees from the map's +x
-towards +y). With --mount, the camera's height and each corner's ceiling distance from it.
+towards +y). With --mount, the camera's height and each corner's ceiling distance from it.)text";
 
-An error names the line and the field, e.g. "map.pbtxt: line 12: room[0].corner[1].position
-is not a vertex of room[0].outline (the nearest is 0.80 m away)". Exit status 1 then.
-)help";
-
-constexpr const char* kDrawHelp =
-    R"(Usage: monocle map draw MAP.pbtxt --out MAP.png [--trajectory FILE] [--poses POSES.jsonl]
-
-Draws the map from above (map frame: x right, y up, metres, a 1 m grid): rooms, walls, each
-ceiling corner with its X and Y edges, and optionally
-  --trajectory FILE     the robot's true path (x_m y_m heading_deg a line, as
-                        `render room --trajectory` takes), in black
-  --poses POSES.jsonl   the output of `corner locate --map --json`: each located pose as a
-                        dot in the colour of the corner it was measured from, joined to that
-                        corner, with its heading; candidates of undecided views as grey rings
-  --out MAP.png         the picture (.png, .jpg or .pgm)
-)";
+constexpr const char* kCheckFooter =
+    R"text(An error names the line and the field, e.g. "map.pbtxt: line 12: room[0].corner[1].position
+is not a vertex of room[0].outline (the nearest is 0.80 m away)". Exit status 1 then.)text";
 
 std::string Degrees(const Eigen::Vector2d& direction) {
   std::ostringstream os;
@@ -62,19 +48,18 @@ std::string Degrees(const Eigen::Vector2d& direction) {
 }
 
 int Check(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kCheckHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(argv, {{"--mount"}, {}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().size() != 1)
-    return Fail("give one MAP.pbtxt (monocle map check --help)", kExitUsage);
-  const std::string path = args->positionals()[0];
+  std::vector<std::string> file;
+  std::optional<std::string> mount_path;
+  CommandLine line("map check", kCheckAbout);
+  line.Footer(kCheckFooter);
+  line.Positionals("MAP.pbtxt", &file, "the room map", 1, 1);
+  line.Text("--mount", &mount_path, "MOUNT.pbtxt", "the camera's pose on the robot base");
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
+  const std::string& path = file[0];
   const auto map = LoadRoomMapFile(path);
   if (!map) return Fail(map.error(), kExitFailure);
   std::optional<RigidTransform> mount;
-  if (const auto mount_path = args->Get("--mount")) {
+  if (mount_path) {
     auto m = LoadCameraMountFile(*mount_path, *map);
     if (!m) return Fail(m.error(), kExitFailure);
     mount = *m;
@@ -131,33 +116,41 @@ Result<std::vector<proto::MapLocationOutput>> ReadPoses(const std::string& path)
 }
 
 int Draw(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kDrawHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(argv, {{"--out", "--trajectory", "--poses"}, {}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().size() != 1)
-    return Fail("give one MAP.pbtxt (monocle map draw --help)", kExitUsage);
-  const auto out = args->Require("--out");
-  if (!out) return Fail(out.error(), kExitUsage);
-  const auto map = LoadRoomMapFile(args->positionals()[0]);
+  std::vector<std::string> file;
+  std::string out;
+  std::optional<std::string> trajectory_path, poses_path;
+  CommandLine line("map draw",
+                   "Draws the map from above (map frame: x right, y up, metres, a 1 m grid): "
+                   "rooms, walls, each\nceiling corner with its X and Y edges, and optionally "
+                   "the robot's path and the poses located.");
+  line.Positionals("MAP.pbtxt", &file, "the room map", 1, 1);
+  line.Text("--out", &out, "MAP.png", "the picture (.png, .jpg or .pgm)");
+  line.Require("--out");
+  line.Text("--trajectory", &trajectory_path, "FILE",
+            "the robot's true path (x_m y_m heading_deg a line, as `render room --trajectory` "
+            "takes), in black");
+  line.Text("--poses", &poses_path, "POSES.jsonl",
+            "the output of `corner locate --map --json`: each located pose as a dot in the "
+            "colour of the corner it was measured from, joined to that corner, with its "
+            "heading; candidates of undecided views as grey rings");
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
+  const auto map = LoadRoomMapFile(file[0]);
   if (!map) return Fail(map.error(), kExitFailure);
   MapPicture picture;
   picture.map = &*map;
-  picture.title = std::filesystem::path(args->positionals()[0]).filename().string();
-  if (const auto path = args->Get("--trajectory")) {
+  picture.title = std::filesystem::path(file[0]).filename().string();
+  if (const auto& path = trajectory_path) {
     auto trajectory = LoadBaseTrajectoryFile(*path);
     if (!trajectory) return Fail(trajectory.error(), kExitFailure);
     picture.trajectory = std::move(*trajectory);
   }
-  if (const auto path = args->Get("--poses")) {
+  if (const auto& path = poses_path) {
     auto poses = ReadPoses(*path);
     if (!poses) return Fail(poses.error(), kExitFailure);
     picture.poses = std::move(*poses);
     picture.title += " with " + std::filesystem::path(*path).filename().string();
   }
-  if (auto written = WriteImage(*out, DrawMapPicture(picture)); !written)
+  if (auto written = WriteImage(out, DrawMapPicture(picture)); !written)
     return Fail(written.error(), kExitFailure);
   return kExitOk;
 }

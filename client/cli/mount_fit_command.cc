@@ -9,8 +9,9 @@
 #include <numbers>
 #include <sstream>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
+#include "client/cli/corner_setup.h"
 #include "idl/cli_output.pb.h"
 #include "idl/service_config.pb.h"
 #include "service/geometry/mount_fit.h"
@@ -25,33 +26,46 @@ namespace {
 
 constexpr double kDegPerRad = 180 / std::numbers::pi;
 
-constexpr char kHelp[] =
-    R"(Usage: monocle corner fit-mount IMAGE... --calibration CAL.pbtxt --mount MOUNT.pbtxt
-                          [--ceiling-distance Z] [--out NEW_MOUNT.pbtxt] [--json]
-
-Fits the tilt and roll of the camera's mount on the robot base from ceiling-corner images
+constexpr char kAbout[] =
+    R"(Fits the tilt and roll of the camera's mount on the robot base from ceiling-corner images
 taken while the robot stood on the floor, at several places and headings. The mount's level
 (corner locate --mount, monocled's level_sigma_deg) helps a pose only as far as the mount's
 rotation is right, and most at a tenth of a degree; a mount read off a drawing is rarely
 better than half a degree. Each image's pose says where the base's up axis points under the
 given mount; a mount error turns with the robot's heading and the floor's slope does not,
 so poses facing several ways, at corners on different walls, separate the two (client/cli/GUIDE.md,
-"Fitting the mount's level").
+"Fitting the mount's level").)";
 
-  --calibration CAL.pbtxt  the camera's intrinsics (and corner { ceiling_distance })
-  --mount MOUNT.pbtxt      the mount as it is configured (a CameraMount); its rotation is
-                           corrected, its translation and base_frame are kept
-  --ceiling-distance Z     camera to ceiling, metres (default: the calibration file's)
-  --out NEW_MOUNT.pbtxt    write the fitted mount there (atomically)
-  --json                   one JSON object (MountFitOutput in idl/cli_output.proto)
-
-Prints the correction (degrees about the base's x axis, ahead, and y axis, left), its 1σ,
+constexpr char kFooter[] =
+    R"(Prints the correction (degrees about the base's x axis, ahead, and y axis, left), its 1σ,
 and how level the floor was (1σ per axis beyond the poses' own: the least level_sigma_deg to
 configure). Images without a corner, poses suspect for their edges, and poses that tip the
 base more than 3.7σ from the fit are left out and named. The mount's yaw (the camera's
 heading on the robot) is not the level's and is kept as given. Needs at least 5 poses; 20 or
-more, at corners on different walls, are better.
-)";
+more, at corners on different walls, are better.)";
+
+struct FitMountArgs {
+  std::vector<std::string> images;
+  std::string calibration_path, mount_path;
+  std::optional<std::string> out_path;
+  CornerArgs corner;  // its ceiling distance
+  bool json = false;
+};
+
+void DeclareFitMount(CommandLine& line, FitMountArgs* a) {
+  line.Footer(kFooter);
+  line.Positionals("IMAGE", &a->images, "an image of a ceiling corner, the robot on the floor");
+  line.Text("--calibration", &a->calibration_path, "CAL.pbtxt",
+            "the camera's intrinsics (and corner { ceiling_distance })");
+  line.Require("--calibration");
+  line.Text("--mount", &a->mount_path, "MOUNT.pbtxt",
+            "the mount as it is configured (a CameraMount); its rotation is corrected, its "
+            "translation and base_frame are kept");
+  line.Require("--mount");
+  DeclareCeilingDistance(line, &a->corner, "default: the calibration file's");
+  line.Text("--out", &a->out_path, "NEW_MOUNT.pbtxt", "write the fitted mount there (atomically)");
+  line.Flag("--json", &a->json, "one JSON object (MountFitOutput in idl/cli_output.proto)");
+}
 
 std::string Fixed(double value, int decimals) {
   std::ostringstream s;
@@ -80,23 +94,15 @@ Result<std::string> FittedMountText(const std::string& path, const RigidTransfor
 }  // namespace
 
 int FitMountCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kHelp;
-    return kExitOk;
-  }
-  auto args =
-      Args::Parse(argv, {{"--calibration", "--mount", "--ceiling-distance", "--out"}, {"--json"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().empty()) return Fail("no IMAGE given (see --help)", kExitUsage);
-  const auto cal_path = args->Require("--calibration");
-  if (!cal_path) return Fail(cal_path.error(), kExitUsage);
-  const auto mount_path = args->Require("--mount");
-  if (!mount_path) return Fail(mount_path.error(), kExitUsage);
-  const auto calibration = LoadCalibrationFile(*cal_path);
+  FitMountArgs a;
+  CommandLine line("corner fit-mount", kAbout);
+  DeclareFitMount(line, &a);
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
+  const auto calibration = LoadCalibrationFile(a.calibration_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
-  const auto mount = LoadCameraMountFile(*mount_path, RoomMap{});
+  const auto mount = LoadCameraMountFile(a.mount_path, RoomMap{});
   if (!mount) return Fail(mount.error(), kExitFailure);
-  const auto zc = CeilingDistanceM(*args, calibration->ceiling_distance_m, *cal_path);
+  const auto zc = CeilingDistanceM(a.corner, calibration->ceiling_distance_m, a.calibration_path);
   if (!zc) return Fail(zc.error(), kExitUsage);
   CornerQualityOptions quality;
   quality.max_swing_rad = calibration->corner_max_swing_rad.value_or(quality.max_swing_rad);
@@ -105,7 +111,7 @@ int FitMountCommand(const std::vector<std::string>& argv) {
   std::vector<MountFitPose> poses;
   std::vector<int> image_of_pose;  // index into out.images
   const bool tty = ::isatty(STDERR_FILENO) == 1;
-  const auto& images = args->positionals();
+  const auto& images = a.images;
   for (size_t i = 0; i < images.size(); ++i) {
     if (tty) std::cerr << "\rlocating " << i + 1 << "/" << images.size() << std::flush;
     auto* entry = out.add_images();
@@ -148,15 +154,15 @@ int FitMountCommand(const std::vector<std::string>& argv) {
   out.set_floor_sigma_deg(fit->floor_sigma_rad * kDegPerRad);
   const Eigen::Quaterniond& q = fit->mount.rotation;
   for (double v : {q.x(), q.y(), q.z(), q.w()}) out.add_rotation_xyzw(v);
-  if (const auto path = args->Get("--out")) {
-    const auto text = FittedMountText(*mount_path, fit->mount, fit->used.size());
+  if (const auto& path = a.out_path) {
+    const auto text = FittedMountText(a.mount_path, fit->mount, fit->used.size());
     if (!text) return Fail(text.error(), kExitFailure);
     if (auto written = WriteFileAtomically(*path, *text); !written)
       return Fail(written.error(), kExitFailure);
     out.set_written(*path);
   }
 
-  if (args->Has("--json")) {
+  if (a.json) {
     std::cout << ToJson(out) << std::endl;
   } else {
     std::cout << "mount fitted from " << out.used() << " of " << images.size() << " images\n";

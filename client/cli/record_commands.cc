@@ -12,47 +12,28 @@
 #include <sstream>
 
 #include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/live.h"
+#include "client/cli/shared_options.h"
 #include "idl/record/recorder.h"
 #include "service/io/mcap_reader.h"
 
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kRecordHelp =
-    R"(Usage: monocle record --out FILE.mcap [--camera ID]... [--frames none|every|N]
-                      [--duration S] [--zstd] [--domain D] [--timeout S] [--security DIR]
-
-Records what the running service publishes into an MCAP file (ROS 2's bag format; Foxglove
+constexpr const char* kRecordAbout =
+    R"(Records what the running service publishes into an MCAP file (ROS 2's bag format; Foxglove
 and `ros2 bag` open it): per camera its corner poses, poses, camera info, frames and the
 requests and replies of its services, and for all cameras their status, calibrations, /tf,
 /tf_static and /diagnostics. Messages are stored as they travelled (CDR) with their ROS 2
 message definitions. Runs until Ctrl-C, SIGTERM or --duration; the file is then closed with
 its index. A file cut short (power loss, SIGKILL) keeps every complete chunk: `monocle info`
-recovers it.
+recovers it.)";
 
-  --out FILE.mcap   the recording (overwritten)
-  --camera ID       a camera to record (repeatable; default every camera on the domain)
-  --frames MODE     none (default), every frame, or every Nth frame the service sends. The
-                    service sends frames at most at its camera's image_max_rate_hz
-                    (configuration, default 5 Hz); raise it to record every frame.
-  --duration S      stop after S seconds (default: until Ctrl-C)
-  --zstd            compress the file losslessly (zstd chunks)
-  --domain D        DDS domain id (default 0)
-  --timeout S       wait up to S seconds for the service's cameras (default 10)
-  --security DIR    this client's identity of a secured service's keystore
-
-On a terminal it shows messages and bytes per topic as it records; otherwise it is quiet.
-Exit status 1 if the recording stopped early (e.g. the disk is full; the file stays readable).
-)";
-
-constexpr const char* kInfoHelp = R"(Usage: monocle info FILE.mcap [--json]
-
-What a recording holds: its time span, cameras, and per topic the message type and count. A
-closed file is summarised from its index without reading the messages; a file cut short
-(recorder killed, disk full) is scanned, and what was kept is said.
-)";
+constexpr const char* kRecordFooter =
+    R"(On a terminal it shows messages and bytes per topic as it records; otherwise it is quiet.
+Exit status 1 if the recording stopped early (e.g. the disk is full; the file stays readable).)";
 
 std::string Megabytes(uint64_t bytes) {
   std::ostringstream s;
@@ -134,30 +115,43 @@ int NamespacesOf(const std::vector<std::string>& wanted, const std::vector<Camer
 
 }  // namespace
 
-int RecordCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kRecordHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(
-      argv, {{"--out", "--camera", "--frames", "--duration", "--domain", "--timeout", "--security"},
-             {"--zstd"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (!args->positionals().empty()) {
-    return Fail("record takes no positional arguments (see --help)", kExitUsage);
-  }
-  const auto out = args->Require("--out");
-  if (!out) return Fail(out.error(), kExitUsage);
+struct RecordArgs {
+  std::string out;
+  std::vector<std::string> cameras;
   record::RecordOptions options;
-  options.zstd = args->Has("--zstd");
-  if (!ParseFramesEvery(args->Get("--frames").value_or("none"), &options.frames_every)) {
-    return Fail("--frames must be none, every, or a whole number N >= 1 (every Nth frame)",
-                kExitUsage);
-  }
-  const auto duration_s = args->GetDouble("--duration", 0);
-  if (!duration_s || *duration_s < 0) {
-    return Fail("--duration must be a positive number of seconds", kExitUsage);
-  }
+  double duration_s = 0;
+  LiveOptions live;
+};
+
+void DeclareRecord(CommandLine& line, RecordArgs* a) {
+  line.Footer(kRecordFooter);
+  line.Text("--out", &a->out, "FILE.mcap", "the recording (overwritten)");
+  line.Require("--out");
+  line.Texts("--camera", &a->cameras, "ID",
+             "a camera to record (default every camera on the "
+             "domain)");
+  line.Custom("--frames", "none|every|N",
+              "none (default), every frame, or every Nth frame the service sends. The service "
+              "sends frames at most at its camera's image_max_rate_hz (configuration, default "
+              "5 Hz); raise it to record every frame",
+              [a](const std::string& text) -> std::optional<std::string> {
+                if (ParseFramesEvery(text, &a->options.frames_every)) return std::nullopt;
+                return "must be none, every, or a whole number N >= 1 (every Nth frame)";
+              });
+  line.Number("--duration", &a->duration_s, "S", "stop after S seconds (0: until Ctrl-C)",
+              In("seconds").AtLeast(0));
+  line.Flag("--zstd", &a->options.zstd, "compress the file losslessly (zstd chunks)");
+  DeclareServiceOptions(line, &a->live, "wait up to S seconds for the service's cameras");
+}
+
+int RecordCommand(const std::vector<std::string>& argv) {
+  RecordArgs a;
+  CommandLine line("record", kRecordAbout);
+  DeclareRecord(line, &a);
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
+  record::RecordOptions& options = a.options;
+  const std::string* out = &a.out;
+  const double* duration_s = &a.duration_s;
 
   // Ctrl-C and SIGTERM end the recording cleanly: blocked before any thread starts, waited
   // for below. A file size limit (SIGXFSZ) must end the recording with its summary, not kill.
@@ -169,11 +163,11 @@ int RecordCommand(const std::vector<std::string>& argv) {
   std::signal(SIGXFSZ, SIG_IGN);
 
   int exit_status = kExitOk;
-  auto client = OpenClient(*args, &exit_status);
+  auto client = OpenClient(a.live, &exit_status);
   if (!client) return exit_status;
   const auto cameras = client->status();
   if (!cameras) return Fail(cameras.error());
-  const std::vector<std::string> wanted = args->GetAll("--camera");
+  const std::vector<std::string>& wanted = a.cameras;
   std::set<std::string> namespaces;
   if (int status = NamespacesOf(wanted, *cameras, &namespaces); status != kExitOk) return status;
   if (wanted.empty()) {
@@ -181,8 +175,8 @@ int RecordCommand(const std::vector<std::string>& argv) {
   }
   options.namespaces.assign(namespaces.begin(), namespaces.end());
 
-  const int domain = static_cast<int>(*args->GetDouble("--domain", 0));
-  std::string security = args->Get("--security").value_or("");
+  const int domain = a.live.domain;
+  std::string security = a.live.security_dir.value_or("");
   if (security.empty()) {
     if (const char* env = std::getenv("MONOCLE_SECURITY")) security = env;
   }
@@ -222,16 +216,17 @@ int RecordCommand(const std::vector<std::string>& argv) {
 }
 
 int InfoCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kInfoHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(argv, {{}, {"--json"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().size() != 1) {
-    return Fail("info takes one recording (monocle info FILE.mcap)", kExitUsage);
-  }
-  const std::string path = args->positionals()[0];
+  std::vector<std::string> file;
+  bool json = false;
+  CommandLine line("info",
+                   "What a recording holds: its time span, cameras, and per topic the message type "
+                   "and count. A\nclosed file is summarised from its index without reading the "
+                   "messages; a file cut short\n(recorder killed, disk full) is scanned, and what "
+                   "was kept is said.");
+  line.Positionals("FILE.mcap", &file, "the recording", 1, 1);
+  line.Flag("--json", &json, "print one JSON object");
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
+  const std::string& path = file[0];
   auto reader = mcap::Reader::Open(path);
   if (!reader) return Fail(reader.error(), kExitFailure);
   const mcap::Summary& s = reader->summary();
@@ -255,7 +250,7 @@ int InfoCommand(const std::vector<std::string>& argv) {
   };
   const double duration_s =
       s.message_count > 0 ? static_cast<double>(s.end_time_ns - s.start_time_ns) / 1e9 : 0;
-  if (args->Has("--json")) {
+  if (json) {
     std::ostringstream j;
     j << "{\"file\":\"" << path << "\",\"bytes\":" << s.file_bytes << ",\"profile\":\"" << s.profile
       << "\",\"library\":\"" << s.library << "\",\"messages\":" << s.message_count

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "camera/recording_source.h"
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
 #include "client/cli/corner_setup.h"
@@ -22,41 +22,21 @@
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kReplayHelp =
-    R"help(Usage: monocle replay FILE.mcap [--camera ID] [--rate X] [--json]
-                      [--calibration CAL.pbtxt] [--ceiling-distance Z] [--detect-every N]
-                      [--map MAP.pbtxt --mount MOUNT.pbtxt [--prior X,Y,HEADING_DEG]]
-                      [--level-sigma DEG]
-
-Runs the recorded frames of a recording (monocle record --frames every|N, or monocled
+constexpr const char* kReplayAbout =
+    R"text(Runs the recorded frames of a recording (monocle record --frames every|N, or monocled
 --record-frames) through the corner pipeline monocled runs: the three edges tracked from
 frame to frame, a full detection on the first frame, when tracking fails, on a suspect pose
 and every N frames. One pose per frame, in the corner frame (metres, radians), like
 `monocle corner locate`. Every frame is processed, in recorded order, whatever the pace, so
 a replay gives the same poses every time (monocled live skips frames while it is busy).
+Give --map, --mount, --prior and --level-sigma as monocled was configured (room_map, mount,
+initial_pose, level_sigma_deg) to get the map poses it published, frame for frame.)text";
 
-  --camera ID          only this camera (default: every corner camera with frames)
-  --rate X             0 (default): as fast as poses are computed; 1: at the recorded pace;
-                       2: twice as fast
-  --json               one JSON object per line, as `monocle corner locate --camera ID
-                       --json`: camera, sequence (the frame's index in the recording, from 0),
-                       capture_time_ns (the recorded stamp), time_source "recorded", pose
-  --calibration CAL    use these intrinsics (and ceiling distance) instead of the calibration
-                       the recording started with
-  --ceiling-distance Z camera to ceiling, metres (default: what the service used)
-  --detect-every N     a full detection at least every N frames (default 30, as monocled)
-  --map MAP --mount MOUNT
-                       place every pose in the room map monocled was configured with
-                       (room_map, mount): the same map poses it published, frame for frame
-  --prior X,Y,DEG      where the robot started in the map (monocled's initial_pose)
-  --mount MOUNT alone  combine each pose with the robot's level (monocled's level_sigma_deg)
-  --level-sigma DEG    how level the robot stands, 1 sigma in degrees (default 0.3)
-
-Text lines: "<camera> frame N  x=... y=... z=... m  pan=... tilt=... swing=... rad (1σ ...)".
+constexpr const char* kReplayFooter =
+    R"text(Text lines: "<camera> frame N  x=... y=... z=... m  pan=... tilt=... swing=... rad (1σ ...)".
 A progress line goes to the terminal when the poses go to a file. `monocle info FILE` lists
 what a recording holds; `monocled --replay FILE` serves it over DDS as if live.
-Exit status 1 if a frame had no pose or the file is damaged.
-)help";
+Exit status 1 if a frame had no pose or the file is damaged.)text";
 
 // One camera being replayed: its frames, its pipeline, its next frame (for merging the
 // cameras in capture-time order).
@@ -83,40 +63,53 @@ struct ReplayOptions {
   std::optional<CameraCalibration> calibration_override;
 };
 
-// kExitOk with `out` filled, or the exit status of the mistake (already reported).
+struct ReplayArgs {
+  std::vector<std::string> file;
+  std::optional<std::string> camera, calibration_path;
+  double rate = 0;
+  bool json = false;
+  CornerArgs corner;
+};
+
+void DeclareReplay(CommandLine& line, ReplayArgs* a) {
+  line.Footer(kReplayFooter);
+  line.Positionals("FILE.mcap", &a->file, "the recording", 1, 1);
+  line.Text("--camera", &a->camera, "ID",
+            "only this camera (default: every corner camera with frames)");
+  line.Number("--rate", &a->rate, "X",
+              "0: as fast as poses are computed; 1: at the recorded pace; 2: twice as fast",
+              In("times the recorded pace").Between(0, 1000));
+  line.Flag("--json", &a->json,
+            "one JSON object per line, as `monocle corner locate --camera ID --json`: camera, "
+            "sequence (the frame's index in the recording, from 0), capture_time_ns (the "
+            "recorded stamp), time_source \"recorded\", pose");
+  line.Text("--calibration", &a->calibration_path, "CAL.pbtxt",
+            "use these intrinsics (and ceiling distance) instead of the calibration the "
+            "recording started with");
+  DeclareCeilingDistance(line, &a->corner, "default: what the service used");
+  DeclareCornerSetup(line, &a->corner, "frames");
+}
+
+// kExitOk with `out` filled, -1 when the help was printed, or the exit status of the mistake
+// (already reported).
 int ParseReplayOptions(const std::vector<std::string>& argv, ReplayOptions* out) {
-  auto args = Args::Parse(argv, {{"--camera", "--rate", "--calibration", "--ceiling-distance",
-                                  "--detect-every", "--map", "--mount", "--prior", "--level-sigma"},
-                                 {"--json"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (args->positionals().size() != 1)
-    return Fail("give exactly one FILE.mcap (see --help)", kExitUsage);
-  out->path = args->positionals()[0];
-  const auto rate = args->GetDouble("--rate", 0);
-  if (!rate || !(*rate >= 0) || *rate > 1000)
-    return Fail("--rate must be 0 (as fast as possible) or a factor up to 1000", kExitUsage);
-  out->rate = *rate;
-  const auto detect_every = DetectEvery(*args, "frames");
-  if (!detect_every) return Fail(detect_every.error(), kExitUsage);
-  const auto level_sigma_rad = LevelSigmaRad(*args);
-  if (!level_sigma_rad) return Fail(level_sigma_rad.error(), kExitUsage);
-  auto setup = CornerSetupFromArgs(*args, *level_sigma_rad);
+  ReplayArgs a;
+  CommandLine line("replay", kReplayAbout);
+  DeclareReplay(line, &a);
+  if (const auto exit_now = line.Parse(argv)) return *exit_now == kExitOk ? -1 : *exit_now;
+  out->path = a.file[0];
+  out->rate = a.rate;
+  auto setup = CornerSetupFrom(a.corner);
   if (!setup) return Fail(setup.error(), UsageOrFailure(setup.error()));
   out->pipeline = std::move(*setup);
-  out->pipeline.tracking.detect_every_n_frames = *detect_every;
-  if (args->Get("--ceiling-distance")) {
-    const auto z = args->GetDouble("--ceiling-distance", 0);
-    if (!z || !(*z > 0))
-      return Fail("--ceiling-distance must be a positive distance in metres", kExitUsage);
-    out->ceiling_override = *z;
-  }
-  if (const auto cal = args->Get("--calibration")) {
-    auto loaded = LoadCalibrationFile(*cal);
+  out->ceiling_override = a.corner.ceiling_distance_m;
+  if (a.calibration_path) {
+    auto loaded = LoadCalibrationFile(*a.calibration_path);
     if (!loaded) return Fail(loaded.error(), kExitFailure);
     out->calibration_override = *loaded;
   }
-  out->only_camera = args->Get("--camera");
-  out->json = args->Has("--json");
+  out->only_camera = a.camera;
+  out->json = a.json;
   return kExitOk;
 }
 
@@ -265,12 +258,9 @@ int Replay(const ReplayOptions& o, std::vector<ReplayedCamera>& replayed, uint64
 }  // namespace
 
 int ReplayCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kReplayHelp;
-    return kExitOk;
-  }
   ReplayOptions options;
-  if (int status = ParseReplayOptions(argv, &options); status != kExitOk) return status;
+  if (int status = ParseReplayOptions(argv, &options); status != kExitOk)
+    return status < 0 ? kExitOk : status;  // -1: the help was asked for and printed
   std::vector<ReplayedCamera> replayed;
   if (int status = SelectCameras(options, &replayed); status != kExitOk) return status;
   uint64_t total = 0;

@@ -2,17 +2,15 @@
 #include <filesystem>
 #include <iostream>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/security/keystore.h"
 
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kSecurityHelp =
-    R"(Usage: monocle security init DIR [--client NAME[:ROLE]]... [--service NAME] [--days N]
-
-Makes a DDS Security keystore in DIR (or adds identities to one): a certificate authority
+constexpr const char* kSecurityAbout =
+    R"(Makes a DDS Security keystore in DIR (or adds identities to one): a certificate authority
 (DIR/ca), an identity for the service (DIR/monocled) and one per --client, each with the
 CA certificate, the signed governance (every topic's discovery and data encrypted, only
 participants with a certificate of this CA may join) and permissions by role:
@@ -29,49 +27,49 @@ created readable by their owner only. Give each process only its own identity di
   library:  monocle::Client::Options::security_dir = "DIR/NAME"
 
 DIR/ca/ca_key.pem signs new identities (run init again with more --client); keep it off
-the robot. An existing identity is never overwritten.
-
-  --client NAME[:ROLE]  a client identity; ROLE reader (default) or operator; repeatable
-  --service NAME        the service's identity name (default monocled)
-  --days N              validity of new certificates, days (default 3650)
-)";
+the robot. An existing identity is never overwritten.)";
 
 }  // namespace
 
 int SecurityCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kSecurityHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(argv, {{"--client", "--service", "--days"}, {}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  const auto& pos = args->positionals();
-  if (pos.size() != 2 || pos[0] != "init")
-    return Fail("usage: monocle security init DIR [--client NAME[:ROLE]]... (see --help)",
-                kExitUsage);
-  const auto days = args->GetDouble("--days", 3650);
-  if (!days || *days < 1 || *days > 36500 || *days != static_cast<int>(*days))
-    return Fail("--days must be a whole number of days, 1..36500", kExitUsage);
-
-  std::vector<security::IdentitySpec> identities;
-  identities.push_back({args->Get("--service").value_or("monocled"), security::Role::kService});
-  for (const auto& c : args->GetAll("--client")) {
-    const auto colon = c.find(':');
-    security::IdentitySpec spec{c.substr(0, colon), security::Role::kReader};
-    if (colon != std::string::npos) {
-      auto role = security::ParseClientRole(c.substr(colon + 1));
-      if (!role) return Fail("--client " + c + ": " + role.error().message, kExitUsage);
-      spec.role = *role;
+  std::vector<std::string> dir_arg;
+  std::optional<std::string> service;
+  int days = 3650;
+  std::vector<security::IdentitySpec> clients;
+  CommandLine line("security init", kSecurityAbout);
+  line.Positionals("DIR", &dir_arg, "the keystore's folder", 1, 1);
+  line.CustomRepeated("--client", "NAME[:ROLE]",
+                      "a client identity; ROLE reader (default) or operator",
+                      [&clients](const std::string& c) -> std::optional<std::string> {
+                        const auto colon = c.find(':');
+                        security::IdentitySpec spec{c.substr(0, colon), security::Role::kReader};
+                        if (colon != std::string::npos) {
+                          auto role = security::ParseClientRole(c.substr(colon + 1));
+                          if (!role) return c + ": " + role.error().message;
+                          spec.role = *role;
+                        }
+                        clients.push_back(spec);
+                        return std::nullopt;
+                      });
+  line.Text("--service", &service, "NAME", "the service's identity name (default monocled)");
+  line.Whole("--days", &days, "N", "validity of new certificates", In("days").Between(1, 36500));
+  if (argv.empty() || argv[0] != "init") {
+    if (!argv.empty() && (argv[0] == "--help" || argv[0] == "-h")) {
+      std::cout << line.Help();
+      return kExitOk;
     }
-    identities.push_back(spec);
+    return Fail("security takes a command: init (see monocle security init --help)", kExitUsage);
   }
+  if (const auto exit_now = line.Parse({argv.begin() + 1, argv.end()})) return *exit_now;
+  std::vector<security::IdentitySpec> identities;
+  identities.push_back({service.value_or("monocled"), security::Role::kService});
+  identities.insert(identities.end(), clients.begin(), clients.end());
   // When adding clients to an existing keystore, the service identity exists already.
-  const std::string dir = pos[1];
+  const std::string& dir = dir_arg[0];
   std::error_code ec;
-  if (std::filesystem::exists(std::filesystem::path(dir) / identities[0].name, ec) &&
-      !args->Has("--service"))
+  if (std::filesystem::exists(std::filesystem::path(dir) / identities[0].name, ec) && !service)
     identities.erase(identities.begin());
-  if (auto made = security::CreateKeystore(dir, identities, static_cast<int>(*days)); !made)
+  if (auto made = security::CreateKeystore(dir, identities, days); !made)
     return Fail(made.error(), kExitFailure);
   for (const auto& id : identities)
     std::cout << dir << "/" << id.name << "  (" << security::RoleName(id.role) << ")\n";

@@ -4,30 +4,21 @@
 #include <iostream>
 #include <thread>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/live.h"
+#include "client/cli/shared_options.h"
 
 namespace monocle::cli {
 namespace {
 
-constexpr const char* kStatusHelp =
-    R"(Usage: monocle status [--watch] [--json] [--domain D] [--timeout S] [--security DIR]
-
-Every camera of every monocled on the DDS domain (topic /monocle/cameras): its ROS namespace
+constexpr const char* kStatusAbout =
+    R"(Every camera of every monocled on the DDS domain (topic /monocle/cameras): its ROS namespace
 (where its topics and services are; name a camera by it when several robots share a domain),
 role, state (streaming, reconnecting, stopped), frames per second, frames received, dropped
 (sent by the camera, never received), skipped (not processed because processing was busy),
 processing latency (frame received -> result published, median over the status period, ms),
-and the last error. Two monocled serving the same namespace are reported (exit status 1).
-
-  --watch      keep printing every update until Ctrl-C
-  --json       one JSON object per camera per line
-  --domain D   DDS domain id (default 0)
-  --timeout S  give up after S seconds without an answer (default 10)
-  --security DIR  this client's identity of a secured service's keystore
-               (`monocle security init`; default $MONOCLE_SECURITY)
-)";
+and the last error. Two monocled serving the same namespace are reported (exit status 1).)";
 
 proto::StatusOutput ToOutput(const CameraStatus& s) {
   proto::StatusOutput out;
@@ -71,25 +62,23 @@ void Print(const CameraStatus& s, bool json) {
 }  // namespace
 
 int StatusCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kStatusHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(argv, {{"--domain", "--timeout", "--security"}, {"--watch", "--json"}});
-  if (!args) return Fail(args.error(), kExitUsage);
-  if (!args->positionals().empty())
-    return Fail("status takes no arguments (see --help)", kExitUsage);
+  LiveOptions live;
+  bool watch = false, json = false;
+  CommandLine line("status", kStatusAbout);
+  line.Flag("--watch", &watch, "keep printing every update until Ctrl-C");
+  line.Flag("--json", &json, "one JSON object per camera per line");
+  DeclareServiceOptions(line, &live, "give up after S seconds without an answer");
+  if (const auto exit_now = line.Parse(argv)) return *exit_now;
   // With --watch, Ctrl-C ends it cleanly: the signal is waited for below, so block it before
   // any thread (DDS's included) starts and would take it instead.
   sigset_t stop;
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);
   sigaddset(&stop, SIGTERM);
-  if (args->Has("--watch")) pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+  if (watch) pthread_sigmask(SIG_BLOCK, &stop, nullptr);
   int exit_status = kExitOk;
-  auto client = OpenClient(*args, &exit_status);
+  auto client = OpenClient(live, &exit_status);
   if (!client) return exit_status;
-  const bool json = args->Has("--json");
   const auto current = client->status();
   if (!current) return Fail(current.error());
   if (!json) PrintHeader();
@@ -100,7 +89,7 @@ int StatusCommand(const std::vector<std::string>& argv) {
                  "(service/README.md, \"Several robots on one domain\")\n";
     exit_status = kExitFailure;
   }
-  if (!args->Has("--watch")) return exit_status;
+  if (!watch) return exit_status;
 
   // Until Ctrl-C: updates arrive on the subscription's thread; this one waits for the signal.
   std::mutex print;

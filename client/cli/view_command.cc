@@ -12,11 +12,12 @@
 #include <sstream>
 #include <thread>
 
-#include "client/cli/args.h"
+#include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/floor_overlay.h"
 #include "client/cli/live.h"
 #include "client/cli/overlay_text.h"
+#include "client/cli/shared_options.h"
 #include "idl/protocol/dds.h"
 #include "idl/protocol/wire.h"
 #include "idl/ros2_messages.h"
@@ -29,29 +30,15 @@ namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
-constexpr const char* kViewHelp =
-    R"help(Usage: monocle view --camera ID --out LIVE.png [--every S] [--count N]
-                    [--domain D] [--timeout S] [--security DIR]
-
-Saves the service's live frame of a camera with what the service measured in it drawn on it:
+constexpr const char* kViewAbout =
+    R"(Saves the service's live frame of a camera with what the service measured in it drawn on it:
 for a corner camera the three edges its pose predicts (through the lens; X red, Y green,
 Z blue), the corner, the pose (metres, degrees in the corner frame), detected or tracked,
 SUSPECT with its reason; for a floor camera the distances ahead on the floor (metres), the
 horizon and the robot frame's axes from the camera's floor calibration. The frame comes from
 the camera's ROS 2 image_raw topic (published while someone subscribes, at most
-image_max_rate_hz).
-
-  --camera ID     the camera (`monocle status` lists them)
-  --out LIVE.png  where to save the picture (replaced in one step: a viewer never reads half)
-  --every S       save a new picture every S seconds until Ctrl-C (default: once)
-  --count N       stop after N pictures (with --every)
-  --domain D      DDS domain id (default 0); --timeout S: give up after S seconds without a
-                  frame (default 10). A corner camera's picture waits for a frame whose pose
-                  this view can hear; with no pose heard in S seconds it shows the last frame
-                  and says so
-  --security DIR  this client's identity of a secured service's keystore (default
-                  $MONOCLE_SECURITY)
-)help";
+image_max_rate_hz). A corner camera's picture waits for a frame whose pose this view can
+hear; with no pose heard within --timeout it shows the last frame and says so.)";
 
 volatile std::sig_atomic_t g_stop = 0;
 void OnStopSignal(int) { g_stop = 1; }
@@ -121,30 +108,35 @@ void DrawCornerView(cv::Mat& image, const CameraIntrinsics& k, const std::option
 // What the command line asks of `monocle view`, checked once.
 struct ViewOptions {
   std::string camera, out;
-  double every_s = 0, count = 1, timeout_s = 10;
+  double every_s = 0, count = 1;
+  LiveOptions live;
 };
 
-// kExitOk with `o` filled, or the exit status of the mistake (already reported).
-int ParseViewOptions(const Args& args, ViewOptions* o) {
-  if (!args.positionals().empty())
-    return Fail("unexpected argument '" + args.positionals()[0] + "' (see --help)", kExitUsage);
-  const auto camera = args.Require("--camera");
-  if (!camera) return Fail(camera.error(), kExitUsage);
-  const auto out = args.Require("--out");
-  if (!out) return Fail(out.error(), kExitUsage);
-  const auto every_s = args.GetDouble("--every", 0);
-  if (!every_s || *every_s < 0 || *every_s > 86400)
-    return Fail("--every must be 0..86400 seconds", kExitUsage);
-  const auto count = args.GetDouble("--count", *every_s > 0 ? 1e18 : 1);
-  if (!count || *count < 1) return Fail("--count must be >= 1", kExitUsage);
-  const auto timeout_s = args.GetDouble("--timeout", 10);
-  if (!timeout_s || !(*timeout_s > 0)) return Fail("--timeout must be > 0 seconds", kExitUsage);
-  if (auto ext = std::filesystem::path(*out).extension().string(); !CanWriteImageExtension(ext)) {
-    return Fail(
-        "--out " + *out + ": give an image file name ending .png, .jpg or .pgm, e.g. live.png",
-        kExitUsage);
-  }
-  *o = ViewOptions{*camera, *out, *every_s, *count, *timeout_s};
+// kExitOk with `o` filled, -1 when the help was printed, or the exit status of the mistake
+// (already reported).
+int ParseViewOptions(const std::vector<std::string>& argv, ViewOptions* o) {
+  std::optional<double> count;
+  CommandLine line("view", kViewAbout);
+  line.Text("--camera", &o->camera, "ID", "the camera (`monocle status` lists them)");
+  line.Require("--camera");
+  line.Custom("--out", "LIVE.png",
+              "where to save the picture (replaced in one step: a viewer never reads half)",
+              [o](const std::string& out) -> std::optional<std::string> {
+                const auto ext = std::filesystem::path(out).extension().string();
+                if (!CanWriteImageExtension(ext))
+                  return out + ": give an image file name ending .png, .jpg or .pgm, e.g. live.png";
+                o->out = out;
+                return std::nullopt;
+              });
+  line.Require("--out");
+  line.Number("--every", &o->every_s, "S",
+              "save a new picture every S seconds until Ctrl-C (0: once)",
+              In("seconds").Between(0, 86400));
+  line.Number("--count", &count, "N", "stop after N pictures (with --every)",
+              In("pictures").AtLeast(1).Integer());
+  DeclareServiceOptions(line, &o->live, "give up after S seconds without a frame");
+  if (const auto exit_now = line.Parse(argv)) return *exit_now == kExitOk ? -1 : *exit_now;
+  o->count = count.value_or(o->every_s > 0 ? 1e18 : 1);
   return kExitOk;
 }
 
@@ -157,7 +149,7 @@ struct ViewedCamera {
   bool corner() const { return status.role != "floor"; }
 };
 
-int FindCamera(Client& client, const Args& args, const std::string& name, ViewedCamera* out) {
+int FindCamera(Client& client, int domain, const std::string& name, ViewedCamera* out) {
   auto cameras = client.status();
   if (!cameras) return Fail(cameras.error());
   std::optional<CameraStatus> cam;
@@ -167,8 +159,7 @@ int FindCamera(Client& client, const Args& args, const std::string& name, Viewed
     if (c.camera_id == name) cam = c;
   }
   if (!cam) {
-    return Fail("no camera '" + name + "' on DDS domain " +
-                    std::to_string(static_cast<int>(*args.GetDouble("--domain", 0))) +
+    return Fail("no camera '" + name + "' on DDS domain " + std::to_string(domain) +
                     (known.empty() ? " (no service answered)" : " (cameras: " + known + ")"),
                 kExitFailure);
   }
@@ -237,7 +228,7 @@ Status TakeFrame(ImageReader& images, const ViewOptions& o, bool corner, const R
                  std::optional<LiveFrame>* unpaired) {
   const auto give_up = std::max(std::chrono::steady_clock::now(), next_due) +
                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                           std::chrono::duration<double>(o.timeout_s));
+                           std::chrono::duration<double>(o.live.timeout_s));
   while (!*frame && !g_stop && std::chrono::steady_clock::now() < give_up) {
     auto taken = images.Take<LiveFrame>(std::chrono::milliseconds(200), [](const auto& s) {
       LiveFrame f;
@@ -303,21 +294,15 @@ Status SavePicture(const std::string& out, const cv::Mat& picture) {
 }  // namespace
 
 int ViewCommand(const std::vector<std::string>& argv) {
-  if (WantsHelp(argv)) {
-    std::cout << kViewHelp;
-    return kExitOk;
-  }
-  auto args = Args::Parse(
-      argv,
-      {{"--camera", "--out", "--every", "--count", "--domain", "--timeout", "--security"}, {}});
-  if (!args) return Fail(args.error(), kExitUsage);
   ViewOptions o;
-  if (int status = ParseViewOptions(*args, &o); status != kExitOk) return status;
+  if (int status = ParseViewOptions(argv, &o); status != kExitOk)
+    return status < 0 ? kExitOk : status;  // -1: the help was asked for and printed
   int status = kExitOk;
-  auto client = OpenClient(*args, &status);
+  auto client = OpenClient(o.live, &status);
   if (!client) return status;
   ViewedCamera cam;
-  if (int found = FindCamera(*client, *args, o.camera, &cam); found != kExitOk) return found;
+  if (int found = FindCamera(*client, o.live.domain, o.camera, &cam); found != kExitOk)
+    return found;
   RecentPoses poses;
   std::optional<Subscription> subscription;
   if (cam.corner()) {
@@ -325,12 +310,11 @@ int ViewCommand(const std::vector<std::string>& argv) {
     if (!sub) return Fail(sub.error());
     subscription.emplace(std::move(*sub));
   }
-  std::string security = args->Get("--security").value_or("");
+  std::string security = o.live.security_dir.value_or("");
   if (security.empty()) {
     if (const char* env = std::getenv("MONOCLE_SECURITY")) security = env;
   }
-  auto participant = dds::CreateParticipant(
-      static_cast<dds_domainid_t>(*args->GetDouble("--domain", 0)), security);
+  auto participant = dds::CreateParticipant(static_cast<dds_domainid_t>(o.live.domain), security);
   if (!participant) return Fail(participant.error(), kExitFailure);
   const std::string topic = wire::RosTopic(cam.status.ros_namespace, "image_raw");
   auto images = ImageReader::Open(*participant, &sensor_msgs_msg_dds__Image__desc, topic.c_str(),
@@ -350,7 +334,7 @@ int ViewCommand(const std::vector<std::string>& argv) {
     if (no_pose_heard) frame = std::move(unpaired);
     if (!frame) {
       return Fail("no frame from camera '" + o.camera + "' on " + topic + " within " +
-                      std::to_string(static_cast<int>(o.timeout_s)) +
+                      std::to_string(static_cast<int>(o.live.timeout_s)) +
                       " s (camera state: " + ToString(cam.status.state) +
                       (cam.status.last_error.empty() ? "" : ", " + cam.status.last_error) + ")",
                   kExitFailure);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 namespace monocle::wire {
 namespace {
@@ -22,6 +23,23 @@ void Borrow(std::vector<T>& v, Seq* seq) {
 template <typename Seq>
 std::vector<double> Column(const Seq& seq) {
   return std::vector<double>(seq._buffer, seq._buffer + seq._length);
+}
+
+// The core's point status and the wire's POINT_* carry the same numbers.
+static_assert(static_cast<int>(PointStatus::kMeasured) == monocle_msgs_msg_dds__POINT_MEASURED);
+static_assert(static_cast<int>(PointStatus::kInvalidPixel) ==
+              monocle_msgs_msg_dds__POINT_INVALID_PIXEL);
+static_assert(static_cast<int>(PointStatus::kNotMeasurable) ==
+              monocle_msgs_msg_dds__POINT_NOT_MEASURABLE);
+
+monocle_msgs_msg_dds__PointStatus ToWire(PointStatus status) {
+  return static_cast<monocle_msgs_msg_dds__PointStatus>(status);
+}
+
+// Empty for a value this build does not know (a newer or hostile peer's).
+std::optional<PointStatus> PointStatusFromWire(uint32_t value) {
+  if (value > monocle_msgs_msg_dds__POINT_NOT_MEASURABLE) return std::nullopt;
+  return static_cast<PointStatus>(value);
 }
 
 }  // namespace
@@ -251,13 +269,13 @@ void ToSample(const std::vector<PixelQuery>& pixels, double pixel_sigma_px,
   for (const auto& p : pixels) {
     c.u.push_back(p.u);
     c.v.push_back(p.v);
-    any_foot = any_foot || p.floor_px.has_value();
+    any_foot = any_foot || p.foot_px.has_value();
   }
   // Foot columns only when some point stands above another (floor pixels need none).
   if (any_foot) {
     for (const auto& p : pixels) {
-      c.foot_u.push_back(p.floor_px ? (*p.floor_px)[0] : std::nan(""));
-      c.foot_v.push_back(p.floor_px ? (*p.floor_px)[1] : std::nan(""));
+      c.foot_u.push_back(p.foot_px ? (*p.foot_px)[0] : std::nan(""));
+      c.foot_v.push_back(p.foot_px ? (*p.foot_px)[1] : std::nan(""));
     }
   }
   Borrow(c.u, &out->u);
@@ -287,7 +305,7 @@ Result<std::vector<PixelQuery>> FromSample(const monocle_msgs_srv_dds__MeasurePo
     // silently read as one: it reaches the measurement and is rejected there as invalid.
     if (s.foot_u._length != 0 &&
         !(std::isnan(s.foot_u._buffer[i]) && std::isnan(s.foot_v._buffer[i])))
-      out[i].floor_px = std::array<double, 2>{s.foot_u._buffer[i], s.foot_v._buffer[i]};
+      out[i].foot_px = std::array<double, 2>{s.foot_u._buffer[i], s.foot_v._buffer[i]};
   }
   return out;
 }
@@ -300,18 +318,23 @@ void ToSample(WireRequestStatus status, const std::string& error,
   out->error = Chars(error);
   auto& c = *columns;
   const size_t n = points.size();
-  for (auto* col : {&c.x, &c.y, &c.z, &c.sigma_x, &c.sigma_y, &c.sigma_z}) col->resize(n);
+  for (auto* col : {&c.x, &c.y, &c.z, &c.sigma_x, &c.sigma_y, &c.sigma_z, &c.covariance_xy,
+                    &c.covariance_xz, &c.covariance_yz})
+    col->resize(n);
   c.status.resize(n);
   c.errors.clear();
   for (size_t i = 0; i < n; ++i) {
     const auto& p = points[i];
-    c.status[i] = static_cast<monocle_msgs_msg_dds__PointStatus>(p.status);
+    c.status[i] = ToWire(p.status);
     c.x[i] = p.p_robot_m[0];
     c.y[i] = p.p_robot_m[1];
     c.z[i] = p.p_robot_m[2];
     c.sigma_x[i] = p.sigma_m[0];
     c.sigma_y[i] = p.sigma_m[1];
     c.sigma_z[i] = p.sigma_m[2];
+    c.covariance_xy[i] = p.covariance[1];
+    c.covariance_xz[i] = p.covariance[2];
+    c.covariance_yz[i] = p.covariance[5];
     if (!p.ok()) c.errors.push_back({static_cast<uint32_t>(i), Chars(p.error)});
   }
   Borrow(c.status, &out->point_status);
@@ -321,6 +344,9 @@ void ToSample(WireRequestStatus status, const std::string& error,
   Borrow(c.sigma_x, &out->sigma_x);
   Borrow(c.sigma_y, &out->sigma_y);
   Borrow(c.sigma_z, &out->sigma_z);
+  Borrow(c.covariance_xy, &out->covariance_xy);
+  Borrow(c.covariance_xz, &out->covariance_xz);
+  Borrow(c.covariance_yz, &out->covariance_yz);
   Borrow(c.errors, &out->point_errors);
 }
 
@@ -328,7 +354,8 @@ Result<std::vector<MeasuredPoint>> FromSample(
     const monocle_msgs_srv_dds__MeasurePoints_Response_& s) {
   const uint32_t n = s.point_status._length;
   for (uint32_t len : {s.x._length, s.y._length, s.z._length, s.sigma_x._length, s.sigma_y._length,
-                       s.sigma_z._length}) {
+                       s.sigma_z._length, s.covariance_xy._length, s.covariance_xz._length,
+                       s.covariance_yz._length}) {
     if (len != n)
       return MakeError(ErrorCode::kIo, "a malformed reply: its columns have different lengths");
   }
@@ -336,13 +363,16 @@ Result<std::vector<MeasuredPoint>> FromSample(
   for (uint32_t i = 0; i < n; ++i) {
     auto& p = out[i];
     const uint32_t status = EnumValue(s.point_status._buffer[i]);
-    p.status = status <= monocle_msgs_msg_dds__POINT_NOT_MEASURABLE
-                   ? static_cast<MeasuredPoint::Status>(status)
-                   : MeasuredPoint::Status::kNotMeasurable;
-    if (status > monocle_msgs_msg_dds__POINT_NOT_MEASURABLE)
+    const auto known = PointStatusFromWire(status);
+    p.status = known.value_or(PointStatus::kNotMeasurable);
+    if (!known)
       p.error = "unknown point status " + std::to_string(status) + " (from a newer service?)";
     p.p_robot_m = {s.x._buffer[i], s.y._buffer[i], s.z._buffer[i]};
-    p.sigma_m = {s.sigma_x._buffer[i], s.sigma_y._buffer[i], s.sigma_z._buffer[i]};
+    const double sx = s.sigma_x._buffer[i], sy = s.sigma_y._buffer[i], sz = s.sigma_z._buffer[i];
+    const double xy = s.covariance_xy._buffer[i], xz = s.covariance_xz._buffer[i],
+                 yz = s.covariance_yz._buffer[i];
+    p.SetCovariance({sx * sx, xy, xz, xy, sy * sy, yz, xz, yz, sz * sz});
+    p.sigma_m = {sx, sy, sz};  // as sent, not squared and rooted again
   }
   for (uint32_t i = 0; i < s.point_errors._length; ++i) {
     const auto& e = s.point_errors._buffer[i];

@@ -49,6 +49,7 @@ struct PointRequestColumns {
 struct PointReplyColumns {
   std::vector<monocle_msgs_msg_dds__PointStatus> status;
   std::vector<double> x, y, z, sigma_x, sigma_y, sigma_z;
+  std::vector<double> covariance_xy, covariance_xz, covariance_yz;
   std::vector<monocle_msgs_msg_dds__PointError_> errors;
 };
 

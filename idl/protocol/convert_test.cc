@@ -198,9 +198,9 @@ TEST(ConvertTest, PointRequestColumnsRoundTrip) {
   ASSERT_TRUE(back.ok()) << back.error();
   ASSERT_EQ(back->size(), 2u);
   EXPECT_EQ((*back)[0].u, 640);
-  EXPECT_FALSE((*back)[0].floor_px.has_value());
-  ASSERT_TRUE((*back)[1].floor_px.has_value());
-  EXPECT_EQ((*(*back)[1].floor_px)[1], 900);
+  EXPECT_FALSE((*back)[0].foot_px.has_value());
+  ASSERT_TRUE((*back)[1].foot_px.has_value());
+  EXPECT_EQ((*(*back)[1].foot_px)[1], 900);
 
   // Floor pixels only: no foot columns at all.
   ToSample({{1, 2, std::nullopt}}, 0, &columns, &s);
@@ -212,7 +212,7 @@ TEST(ConvertTest, PointRequestColumnsRoundTrip) {
   columns.foot_v[0] = 3;
   back = FromSample(s);
   ASSERT_TRUE(back.ok());
-  EXPECT_TRUE((*back)[0].floor_px.has_value());
+  EXPECT_TRUE((*back)[0].foot_px.has_value());
 }
 
 TEST(ConvertTest, MalformedPointColumnsAreRefusedWithWhatIsWrong) {

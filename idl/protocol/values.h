@@ -9,6 +9,9 @@
 #include <optional>
 #include <string>
 
+// PixelQuery, PointStatus, MeasuredPoint: the core's types (service/common/point_query.h).
+#include "monocle/point_query.h"
+
 // The library is built with hidden symbols; this marks its public interface.
 #if defined(__GNUC__)
 #define MONOCLE_CLIENT_API __attribute__((visibility("default")))
@@ -17,21 +20,6 @@
 #endif
 
 namespace monocle {
-
-// A floor pixel, or a pixel standing vertically above the floor pixel `floor_px`.
-struct PixelQuery {
-  double u = 0, v = 0;                            // pixels
-  std::optional<std::array<double, 2>> floor_px;  // (u, v) of the point's foot on the floor
-};
-
-struct MeasuredPoint {
-  enum class Status : uint8_t { kMeasured = 0, kInvalidPixel = 1, kNotMeasurable = 2 };
-  Status status = Status::kMeasured;
-  std::array<double, 3> p_robot_m{};  // x, y, z in the robot frame, metres
-  std::array<double, 3> sigma_m{};    // 1-sigma of x, y, z, metres
-  std::string error;                  // why not measured
-  bool ok() const { return status == Status::kMeasured; }
-};
 
 // Where a pose stands in a room map (monocle_msgs/CornerPose MAP_*).
 enum class MapStatus : uint8_t {

@@ -221,7 +221,7 @@ TEST(MonocleMsgsInStep, PackageDescribesTheIdl) {
   EXPECT_EQ(types.structs.size(), 10u);
   EXPECT_EQ(types.structs.at("msg/CornerPose_").size(), 30u);
   EXPECT_EQ(types.enums.at("MapStatus").size(), 5u);
-  EXPECT_EQ(types.structs.at("srv/MeasurePoints_Response_").size(), 12u);
+  EXPECT_EQ(types.structs.at("srv/MeasurePoints_Response_").size(), 15u);
   EXPECT_EQ(types.enums.at("CameraState").size(), 4u);
 }
 

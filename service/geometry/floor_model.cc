@@ -191,16 +191,16 @@ Result<FloorMeasurement> MeasureFloorPoint(const CameraIntrinsics& k, const Floo
 
 Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const FloorPose& pose,
                                               const MeasurementNoise& noise,
-                                              const Eigen::Vector2d& floor_px,
+                                              const Eigen::Vector2d& foot_px,
                                               const Eigen::Vector2d& top_px) {
   const bool with_k = HasIntrinsicsUncertainty(noise);
-  const auto pf = ToPaperCoordinates(k, pose.roll_rad, floor_px, with_k);
-  if (!pf) return NotInvertible(floor_px);
+  const auto pf = ToPaperCoordinates(k, pose.roll_rad, foot_px, with_k);
+  if (!pf) return NotInvertible(foot_px);
   const auto pt = ToPaperCoordinates(k, pose.roll_rad, top_px, with_k);
   if (!pt) return NotInvertible(top_px);
   const double h = pose.height_m, theta = pose.pitch_rad;
   const auto sol = SolveFloor(pf->xy.x(), pf->xy.y(), h, theta);
-  if (!sol) return AboveHorizon(floor_px);
+  if (!sol) return AboveHorizon(foot_px);
   const double s = std::sin(theta), c = std::cos(theta);
   const double y1t = pt->xy.y();
   const double descent_t = y1t * s - c;
@@ -249,7 +249,7 @@ Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const F
   if (z_w < -kVerticalPointSigmas * sigma_z) {
     std::ostringstream os;
     os.precision(3);
-    os << "pixel " << PixelText(top_px) << " is below its foot " << PixelText(floor_px)
+    os << "pixel " << PixelText(top_px) << " is below its foot " << PixelText(foot_px)
        << " (height " << z_w << " m, 1 sigma " << sigma_z
        << " m): give the point above the floor first and its foot on the floor after @";
     return MakeError(ErrorCode::kOutOfRange, os.str());

@@ -76,13 +76,13 @@ Result<FloorMeasurement> MeasureFloorPoint(const CameraIntrinsics& k, const Floo
                                            const MeasurementNoise& noise,
                                            const Eigen::Vector2d& floor_px);
 
-// Eq. (7): the point seen at `top_px` standing vertically above the floor point seen at
-// `floor_px`; x and y are those of the floor point. A height below zero by more than
+// Eq. (7): the point seen at `top_px` standing vertically above its foot, the floor point
+// seen at `foot_px`; x and y are those of the foot. A height below zero by more than
 // kVerticalPointSigmas of its own 1 sigma is refused (kOutOfRange): the top is below its foot.
 inline constexpr double kVerticalPointSigmas = 3.0;
 Result<FloorMeasurement> MeasureVerticalPoint(const CameraIntrinsics& k, const FloorPose& pose,
                                               const MeasurementNoise& noise,
-                                              const Eigen::Vector2d& floor_px,
+                                              const Eigen::Vector2d& foot_px,
                                               const Eigen::Vector2d& top_px);
 
 // Same as above without uncertainty, for callers that need only the point (faster).

@@ -15,9 +15,22 @@ bool InsideImage(const CameraIntrinsics& k, double u, double v) {
 
 }  // namespace
 
+MeasuredPoint ToMeasuredPoint(const FloorMeasurement& measurement) {
+  MeasuredPoint point;
+  point.p_robot_m = {measurement.p_robot_m.x(), measurement.p_robot_m.y(),
+                     measurement.p_robot_m.z()};
+  // Symmetric to the last bit: the wire carries one off-diagonal of each pair, and the
+  // service's answer and the command line's own must print the same.
+  std::array<double, 9> covariance;
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(covariance.data()) =
+      0.5 * (measurement.covariance + measurement.covariance.transpose());
+  point.SetCovariance(covariance);
+  return point;
+}
+
 RequestAnswer AnswerPointRequest(const std::map<std::string, CameraCalibration>& cameras,
-                                 const std::string& camera_id, const std::vector<PixelPair>& points,
-                                 double pixel_sigma_px) {
+                                 const std::string& camera_id,
+                                 const std::vector<PixelQuery>& points, double pixel_sigma_px) {
   RequestAnswer out;
   const auto it = cameras.find(camera_id);
   if (it == cameras.end()) {
@@ -57,19 +70,21 @@ RequestAnswer AnswerPointRequest(const std::map<std::string, CameraCalibration>&
   auto measure_range = [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const auto& p = points[i];
-      PointAnswer& a = out.points[i];
-      if (!InsideImage(k, p.u, p.v) || (p.paired && !InsideImage(k, p.floor_u, p.floor_v))) {
+      MeasuredPoint& a = out.points[i];
+      if (!InsideImage(k, p.u, p.v) ||
+          (p.foot_px && !InsideImage(k, (*p.foot_px)[0], (*p.foot_px)[1]))) {
         std::ostringstream os;
         os << "pixel outside the " << k.width_px << "x" << k.height_px << " image or not a number";
         a.status = PointStatus::kInvalidPixel;
         a.error = os.str();
         continue;
       }
-      const auto m =
-          p.paired ? MeasureVerticalPoint(k, floor.pose, noise, {p.floor_u, p.floor_v}, {p.u, p.v})
-                   : MeasureFloorPoint(k, floor.pose, noise, {p.u, p.v});
+      const auto m = p.foot_px
+                         ? MeasureVerticalPoint(k, floor.pose, noise,
+                                                {(*p.foot_px)[0], (*p.foot_px)[1]}, {p.u, p.v})
+                         : MeasureFloorPoint(k, floor.pose, noise, {p.u, p.v});
       if (m) {
-        a.measurement = *m;
+        a = ToMeasuredPoint(*m);
       } else {
         a.status = PointStatus::kNotMeasurable;
         a.error = m.error().message;

@@ -47,30 +47,14 @@ void PointQueryHandler::AnswerInto(const Query& query, const std::string& camera
     status = monocle_msgs_msg_dds__REQUEST_INVALID;
     error = query.pixels.error().message;
   } else {
-    std::vector<PixelPair> pairs;
-    pairs.reserve(query.pixels->size());
-    for (const auto& p : *query.pixels) {
-      pairs.push_back({p.u, p.v, p.floor_px.has_value(), p.floor_px ? (*p.floor_px)[0] : 0,
-                       p.floor_px ? (*p.floor_px)[1] : 0});
-    }
-    const RequestAnswer answer = calibrations.Read([&](const auto& cameras) {
-      return AnswerPointRequest(cameras, camera_id, pairs, query.pixel_sigma_px);
+    RequestAnswer answer = calibrations.Read([&](const auto& cameras) {
+      return AnswerPointRequest(cameras, camera_id, *query.pixels, query.pixel_sigma_px);
     });
     if (answer.status != RequestStatus::kAnswered) {
       status = monocle_msgs_msg_dds__REQUEST_INVALID;
       error = answer.error;
     }
-    points.resize(answer.points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-      const auto& a = answer.points[i];
-      auto& p = points[i];
-      p.status = static_cast<MeasuredPoint::Status>(a.status);
-      const auto sigma = a.measurement.Sigma();
-      p.p_robot_m = {a.measurement.p_robot_m.x(), a.measurement.p_robot_m.y(),
-                     a.measurement.p_robot_m.z()};
-      p.sigma_m = {sigma[0], sigma[1], sigma[2]};
-      p.error = a.error;
-    }
+    points = std::move(answer.points);
   }
   wire::ToSample(status, error, points, &reply->columns, &reply->sample);
 }

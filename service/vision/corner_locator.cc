@@ -160,9 +160,7 @@ LineObservation ObserveLine(const LineFit& fit, const Eigen::Vector2d& corner, d
       std::max(2.0, obs.num_points * std::min(1.0, spacing_px / kProfileWindowPx));
   // Each line is weighted by its own points' scatter: in a white room one edge's points
   // often scatter 3-8x another's (contrast 10 against 40 grey levels), and with one pooled
-  // scatter a short faint edge pulled the corner as hard as a long clear one. (When the
-  // points were fitted with equal weights this was 40 % worse; since they are weighted by
-  // their step it is better: 356 development views, errors 8 % smaller, p90 0.65 -> 0.54 %.)
+  // scatter a short faint edge pulled the corner as hard as a long clear one.
   // Its direction is only as certain as the points that follow each other from the corner
   // make it.
   obs.scatter_sigma_px = std::max(fit.normal_rms * focal, kMinPointSigmaPx);
@@ -413,13 +411,12 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   out.noise_sigma_grey = edges.measurement_noise_grey;
   out.edges_measured_again = wide_filter[0] || wide_filter[1] || wide_filter[2];
   // A one-sided shading slope beside a faint edge moves its every point the same way, which
-  // neither the points' scatter nor the lines' agreement shows: a pose 5.25 % off at a
-  // reported 1 sigma of 0.88 % (fresh seed 2100011, view 34; tests/accuracy/corner_pose_notes.md).
-  // Where the pose is imprecise enough for that to matter, the shift the shading predicts is
-  // removed, and counted in the covariance too: each stretch's slopes are read from noisy
-  // pixels, so where there was no bias the shift is the correction's own noise, and where
-  // there was one it is larger (client/cli/GUIDE.md, "The shading beside a faint edge").
-  // (Edges measured with the wider filter always: their bias is larger.)
+  // neither the points' scatter nor the lines' agreement shows
+  // (tests/accuracy/corner_pose_notes.md, "Shading"). Where the pose is imprecise enough for that
+  // to matter, the shift the shading predicts is removed, and counted in the covariance too: each
+  // stretch's slopes are read from noisy pixels, so where there was no bias the shift is the
+  // correction's own noise, and where there was one it is larger (client/cli/GUIDE.md, "The shading
+  // beside a faint edge"). (Edges measured with the wider filter always: their bias is larger.)
   const double horizontal_m = std::hypot(out.pose.x_m, out.pose.y_m);
   if (wide_filter[0] || wide_filter[1] || wide_filter[2] ||
       std::sqrt(out.covariance(0, 0) + out.covariance(1, 1)) >
@@ -469,12 +466,11 @@ Result<CornerLocation> LocateCorner(const cv::Mat& grey, const CameraIntrinsics&
   // edges' steps do not add up, a stronger edge leaves the corner), to the next Y whose pose
   // raises no such doubt, at a quarter of the resolution and then at half. Far views that
   // look almost level see the floor's corner below the ceiling's, and the floor's was taken
-  // first: 25 of the 8571 fresh realistic views (1200001-2600016) were 50-92 % off, each
-  // flagged as a camera rolled 66-93 degrees (tests/accuracy/corner_pose_notes.md, "Wrong
-  // Ys"). Where every Y is doubted, the first the finer resolution found stands, flagged: the
-  // coarse image may favour a wrong Y (clutter beside a faint edge), and a map would take
-  // the pose as its next prior. A pose flagged only as imprecise is taken: its edges agree
-  // with it and with each other, and they are measured at full resolution whichever
+  // first, its pose far off and flagged as a camera rolled over (tests/accuracy/
+  // corner_pose_notes.md, "Wrong Ys"). Where every Y is doubted, the first the finer resolution
+  // found stands, flagged: the coarse image may favour a wrong Y (clutter beside a faint edge), and
+  // a map would take the pose as its next prior. A pose flagged only as imprecise is taken: its
+  // edges agree with it and with each other, and they are measured at full resolution whichever
   // resolution found them.
   std::optional<CornerLocation> located, doubted;
   std::optional<Error> pose_error;

@@ -95,9 +95,8 @@ std::ostream& operator<<(std::ostream& os, const CornerLocation& c);
 struct CornerQualityOptions {
   double min_coverage = 0.3;  // an edge found on less of its visible length
   // An edge whose median step is below this many times the noise an edge measurement sees
-  // (CornerLocation::noise_sigma_grey). At 1 a raw frame and its JPEG are flagged alike; it
-  // was 2 against the pixel-to-pixel noise, which JPEG lowers 2-5x: raw frames had good
-  // poses flagged (17 of 71 on development seed 7, against 7 compressed).
+  // (CornerLocation::noise_sigma_grey), not the pixel-to-pixel noise, which JPEG lowers 2-5x:
+  // at 1, a raw frame and its JPEG are flagged alike.
   double min_contrast_to_noise = 1.0;
   // An edge whose own line sits further from the pose's line than this many of its 1 sigma
   // (and at least min_edge_misfit_px): the edges do not agree on one pose.
@@ -105,9 +104,8 @@ struct CornerQualityOptions {
   double min_edge_misfit_px = 0.5;
   // Horizontal 1 sigma over the horizontal distance. Above 1.25 %, 5 % of the distance is
   // within 4 sigma, the product's "no pose more than 5 % off unflagged" with room for the weak
-  // views' 1 sigma being a little optimistic. (At 2 % a pose 5.3 % off at 3.1 sigma went
-  // unflagged on a fresh realistic seed, 271828; at 1.5 %, one 5.1 % off at 3.9 sigma on fresh
-  // seed 1900006, view 49, its 1 sigma 1.31 %: tests/accuracy/corner_pose_notes.md.)
+  // views' 1 sigma being a little optimistic; looser limits let poses over 5 % off go
+  // unflagged (tests/accuracy/corner_pose_notes.md, "Conclusions").
   double max_relative_sigma = 0.0125;
   // The shading beside the edges is read and its shift of the pose removed (and counted in
   // the covariance, CornerLocation::shading_shift) where the horizontal 1 sigma without it is
@@ -118,10 +116,8 @@ struct CornerQualityOptions {
   // Where the horizontal 1 sigma is over this fraction of the distance, the blurred edges are
   // measured again along the fitted lines with the wider filter
   // (WeakViewEdgeDerivativeSigmaPx) before the shading is read, and the pose refined from
-  // them (CornerLocation::edges_measured_again). On the 1778 weakly determined views of 120
-  // realistic seeds the errors fell 13 % where the reported 1 sigma is 0.6-0.8 % and 8 % at
-  // 0.8-1.2 %, and by no significant amount at 0.4-0.6 %, where measuring again would cost
-  // as much: a third of a measurement, on a quarter of realistic frames
+  // them (CornerLocation::edges_measured_again). Below this it no longer lowers the errors
+  // and would cost a third of a measurement on a quarter of realistic frames
   // (tests/accuracy/corner_pose_notes.md, "Weak views measured again, with a wider filter").
   // Infinity: never.
   double remeasure_above_relative_sigma = 0.006;
@@ -141,9 +137,9 @@ struct CornerQualityOptions {
   // A ceiling corner has three edges. An edge leaving it that is not one of the Y's, with a
   // step (corner_rays.h) over this many times the Y's weakest and over
   // min_other_ray_noise_sigmas of the noise, means one of the corner's edges was taken for
-  // something else. Where the Y is right the strongest other edge is at most 0.68 times the
-  // weakest over 781 realistic poses of 11 development seeds, 0.52 over 286 cluttered, 0.02
-  // over 144 clean; where a lost edge let a faint line stand in (seed 440002, view 0) 7.1.
+  // something else. Where the Y is right the strongest other edge stays well below the
+  // weakest; where a lost edge let a faint line stand in, it is several times stronger
+  // (tests/accuracy/corner_pose_notes.md, "Wrong Ys").
   double max_other_ray_ratio = 1.5;
   double min_other_ray_noise_sigmas = 2;
 };

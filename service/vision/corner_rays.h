@@ -2,8 +2,8 @@
 // strongest there. A ceiling corner is where exactly three surfaces meet, so around it the
 // image changes across three rays and nowhere else; a ray stronger than one of the Y's edges
 // means a Y was taken with a wrong third edge (at quarter resolution a short, strong edge
-// can be lost while a faint line into glare stands in for it: realistic seed 440002, view 0,
-// 62.6 % off and flagged by nothing else).
+// can be lost while a faint line into glare stands in for it, a pose far off that nothing
+// else flags: tests/accuracy/corner_pose_notes.md, "Wrong Ys").
 //
 // Clutter does not make a ray: a cable, a frame or a picture edge crosses each ring at an
 // angle that changes with the ring's radius, and a ray must show its step on nearly every ring.

@@ -126,9 +126,8 @@ std::optional<EdgePointSample> PeakOfProfile(const DerivativeKernel& kernel, con
   // the values themselves is off by up to a few hundredths of a pixel depending on where the
   // samples fall (the subpixel phase), and a line sampled slightly askew of the edge sweeps
   // that phase along it: the points then lean towards the line they were sampled along.
-  // (Fisher & Naidu 1996 compare the estimators. The realistic test seeds' medians improved
-  // 10 %, a fresh seed's did not; the lean is what it removes for certain.) Where a
-  // neighbour is not positive, the plain parabola.
+  // (Fisher & Naidu 1996 compare the estimators.) Where a neighbour is not positive, the
+  // plain parabola.
   const float left = deriv[best - 1], mid = deriv[best], right = deriv[best + 1];
   double offset = 0;
   if (left > 0 && right > 0) {
@@ -333,8 +332,8 @@ std::optional<SurfaceShading> MeasureShadingAcrossStretch(const cv::Mat& grey,
   std::array<std::array<double, 2>, 2> line{};  // per side: level at the edge, slope
   // Each row in three loops, as MeasureEdgeStretch samples its patch: the positions (checked
   // inside the image), the bilinear samples (checked unclipped), their sum. With
-  // BilinearNonNegative, 1.7x faster than one Bilinear call per sample (192 realistic frames:
-  // 14.8 -> 8.7 ms), the same values bit for bit.
+  // BilinearNonNegative, 1.7x faster than one Bilinear call per sample, the same values bit
+  // for bit.
   const int samples = static_cast<int>(std::floor((length_px + 1e-9) / 2)) + 1;
   thread_local std::vector<double> xs, ys;
   thread_local std::vector<float> values;
@@ -407,9 +406,9 @@ double EdgeDerivativeSigmaPx(double blur_sigma_px) {
 
 double WeakViewEdgeDerivativeSigmaPx(double blur_sigma_px) {
   // Where the shading's shift is removed, a wider filter's larger bias is mostly removed with
-  // it. 1.9x measured best on the weakly determined views of 120 realistic seeds (1778 views:
-  // errors 5 % smaller than at 1.6x, 2 % of that from measuring again at all; 2.2x 3 %, 2.5x
-  // 4 % larger: the shading the correction does not model grows with s^2).
+  // it. Wider still, the shading the correction does not model (it grows with the filter's
+  // width squared) outweighs the gain (tests/accuracy/corner_pose_notes.md, "Weak views
+  // measured again, with a wider filter").
   constexpr double kWidthOverBlur = 1.9;
   return blur_sigma_px > kSharpBelowPx ? kWidthOverBlur * blur_sigma_px : 0.0;
 }

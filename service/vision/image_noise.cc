@@ -15,8 +15,8 @@ namespace {
 
 // Pixels at the sensor's limits (a lamp's glare, a black hole): their noise is clipped away, so
 // the noise estimates leave out every difference that touches one (>= 253 or <= 2 grey: JPEG
-// rounds a clipped white surface to 253-255). A frame three quarters clipped white read 0.07
-// grey of noise for 3.5 (seed 1500001's view 3), and every edge stood 50x out of it.
+// rounds a clipped white surface to 253-255). Otherwise a frame mostly clipped white reads
+// almost no noise, and every edge stands far out of it (image_noise_test).
 constexpr uint8_t kSaturatedWhite = 253, kSaturatedBlack = 2;
 bool Saturated(uint8_t v) { return v >= kSaturatedWhite || v <= kSaturatedBlack; }
 

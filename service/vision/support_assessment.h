@@ -15,14 +15,10 @@ namespace monocle {
 
 // A whole edge may sit this far (1 sigma, pixels) from where its points say: shading that
 // differs across the edge, JPEG blocks and blur shift the steepest rise a little, the same
-// way along the whole edge (a surface seen at a grazing angle, brightening towards the edge
-// on one side only, moved it 0.04-0.07 px on realistic view 51 of seed 515151, measured as
-// the mean over 24 noise draws; tests/accuracy/corner_pose_notes.md, "Measuring each point better,
-// a third time"). Chosen on the realistic development renders (seeds 7 and 8) so the reported 1
-// sigma covers ~68 % of the errors; the accuracy test checks it on others. (0.1 px until the
-// log-parabola peak, which removed the points' lean towards the line they were sampled along: 0.1
-// then covered 78-80 % on seeds 7 and 8, 0.05 covers 73-74 %, and below that the other terms keep
-// it at 67-72 %.)
+// way along the whole edge (a surface seen at a grazing angle, brightening towards the edge on
+// one side only). Chosen so the reported 1 sigma covers about 68 % of the errors on the
+// development renders; the accuracy test checks it on others (tests/accuracy/corner_pose_notes.md,
+// "Measuring each point better, a third time").
 inline constexpr double kLineBiasPx = 0.05;
 
 // Fills `out`'s support, line ends, rms and suspicion from the three edges' fits against the

