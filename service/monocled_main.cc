@@ -23,6 +23,7 @@ constexpr const char* kUsage =
     R"(Usage: monocled [--config FILE.pbtxt] [--domain D] [--security DIR] [--state-dir DIR]
                 [--record FILE.mcap [--record-frames none|every|N] [--record-zstd]]
                 [--replay FILE.mcap [--replay-rate X] [--replay-loop]] [--print-config]
+                [--version]
 
 The monocle service: measures robot poses from ceiling corners and floor points from its
 cameras and serves them over Cyclone DDS (topics: service/README.md).
@@ -53,7 +54,11 @@ cameras and serves them over Cyclone DDS (topics: service/README.md).
   --replay-rate X  1 (default): at the recorded pace; 2 twice as fast; 0 as fast as frames
                    can be read (monocled still processes only the newest frame, as live)
   --replay-loop    start the recording again at its end
-  --print-config   print the embedded default configuration and exit
+  --print-config   print the embedded default configuration as a file to start from: its
+                   calibration files written to the state directory and named there in
+                   full, so `monocled --print-config > my.pbtxt; monocled --config my.pbtxt`
+                   starts as the default does
+  --version        print the version and exit
 
 CYCLONEDDS_URI configures Cyclone DDS (docker/cyclonedds-loopback.xml: loopback only).
 SIGINT or SIGTERM stop it cleanly.
@@ -88,7 +93,21 @@ struct MonocledOptions {
   std::string replay_path;
   monocle::ReplayPace replay_pace;
   bool replay_rate_given = false;
+  bool print_config = false;
 };
+
+// --print-config: the embedded default as a configuration file that starts as it is: its
+// calibration files written to the state directory and named there in full.
+int PrintConfig(const MonocledOptions& o) {
+  if (auto s = monocle::EnsureSimulatorCalibrations(o.state_dir); !s) {
+    std::cerr << "monocled: error: " << s.error() << "\n";
+    return 1;
+  }
+  std::error_code ec;
+  const auto dir = std::filesystem::absolute(o.state_dir, ec).lexically_normal().string();
+  std::cout << monocle::EmbeddedDefaultConfig(ec ? o.state_dir : dir);
+  return 0;
+}
 
 // --record-frames none|every|N; false for anything else.
 bool ParseRecordFrames(const std::string& mode, int* frames_every) {
@@ -115,9 +134,11 @@ std::optional<int> ParseOptions(int argc, char** argv, MonocledOptions* o) {
     if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       return 0;
-    } else if (a == "--print-config") {
-      std::cout << monocle::EmbeddedDefaultConfig();
+    } else if (a == "--version") {
+      std::cout << "monocled " MONOCLE_VERSION "\n";
       return 0;
+    } else if (a == "--print-config") {
+      o->print_config = true;
     } else if (a == "--config" && has_value) {
       o->config_path = argv[++i];
     } else if (a == "--security" && has_value) {
@@ -269,6 +290,7 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   MonocledOptions options;
   if (const auto exit_status = ParseOptions(argc, argv, &options)) return *exit_status;
+  if (options.print_config) return PrintConfig(options);
   monocle::ServiceSetup setup;
   if (const auto exit_status = LoadSetup(options, &setup)) return *exit_status;
   // A file size limit must end the recording with its summary, not the service.

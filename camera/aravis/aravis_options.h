@@ -11,6 +11,11 @@
 
 namespace monocle {
 
+// Device ids that open in-process simulated cameras (Aravis's fake device filled with rendered
+// scenes) instead of hardware: a ceiling corner, the same in a white-painted room, a floor.
+inline constexpr std::array<const char*, 3> kBuiltInSimulatedCameras = {
+    "sim-corner", "sim-corner-realistic", "sim-floor"};
+
 struct AravisOptions {
   std::string device;  // Aravis device id, IPv4 address or serial number
   std::string pixel_format = "Mono8";

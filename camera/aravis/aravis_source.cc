@@ -269,8 +269,8 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
   std::unique_ptr<AravisSource> src(new AravisSource());
   src->id_ = options.device;
   GErrorSlot err;
-  if (options.device == "sim-corner" || options.device == "sim-corner-realistic" ||
-      options.device == "sim-floor") {
+  if (std::find(kBuiltInSimulatedCameras.begin(), kBuiltInSimulatedCameras.end(), options.device) !=
+      kBuiltInSimulatedCameras.end()) {
     // Aravis's in-process fake device: the same ArvCamera API and stream, no network.
     SimCameraOptions sim;
     sim.scene = options.device == "sim-floor" ? SimScene::kFloor : SimScene::kCorner;
@@ -296,6 +296,14 @@ Result<std::unique_ptr<AravisSource>> AravisSource::Open(const AravisOptions& op
     src->info_ = {options.device, "monocle",    "simulated (Aravis Fake)",
                   options.device, "in-process", "Fake"};
     return Start(std::move(src), options);
+  }
+  if (options.device.starts_with("sim-")) {
+    // A misspelled simulator is a configuration error, not a camera still to be found.
+    std::string known;
+    for (const char* id : kBuiltInSimulatedCameras)
+      known += (known.empty() ? "" : ", ") + std::string(id);
+    return Fail(ErrorCode::kInvalidArgument,
+                "'" + options.device + "' is not a built-in simulated camera (" + known + ")");
   }
   std::lock_guard<std::mutex> lock(AravisSetupMutex());  // held until it streams
   const auto device = ResolveDevice(options.device);

@@ -32,14 +32,17 @@ int Cameras(const std::vector<std::string>& argv) {
                 << "\",\"address\":\"" << c.address << "\",\"interface\":\"" << c.protocol << "\"}";
     }
     std::cout << "]\n";
-  } else if (cams.empty()) {
-    std::cout << "no cameras found\n";
-  } else {
-    for (const auto& c : cams) {
-      std::cout << c.id << "  " << c.vendor << " " << c.model << "  serial " << c.serial << "  "
-                << c.address << "  " << c.protocol << "\n";
-    }
+    return kExitOk;
   }
+  if (cams.empty()) std::cout << "no cameras found\n";
+  for (const auto& c : cams) {
+    std::cout << c.id << "  " << c.vendor << " " << c.model << "  serial " << c.serial << "  "
+              << c.address << "  " << c.protocol << "\n";
+  }
+  std::cout << "built-in simulated cameras, no hardware needed:";
+  for (const char* id : kBuiltInSimulatedCameras) std::cout << " " << id;
+  std::cout << "\n(monocle snapshot sim-corner --out frame.png; device: \"sim-corner\" in "
+               "monocled's configuration)\n";
   return kExitOk;
 }
 

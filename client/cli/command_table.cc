@@ -75,6 +75,7 @@ std::string TopLevelUsage() {
         << WrapText(command.summary, 24, 24, 96) << "\n";
   }
   out << "\nLive forms take --domain D, --timeout S and --security DIR (`monocle security init`).\n"
+         "monocle --version prints the version.\n"
          "monocle help --markdown prints the reference of every command (client/cli/README.md).\n"
          "Exit status: 0 success, 1 a measurement or input failed, 2 wrong command line.\n";
   return out.str();
@@ -102,7 +103,7 @@ int RunCommand(const std::vector<std::string>& args) {
   if (command == "replay") return ReplayCommand(rest);
   if (command == "view") return ViewCommand(rest);
   if (command == "--version") {
-    std::cout << "monocle 0.1.0\n";
+    std::cout << "monocle " MONOCLE_VERSION "\n";
     return kExitOk;
   }
   std::cerr << "monocle: error: unknown command '" << command << "'\n\n" << TopLevelUsage();

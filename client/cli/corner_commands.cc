@@ -107,6 +107,9 @@ void DeclareLocate(CommandLine& line, LocateArgs* a) {
   DeclareServiceOptions(line, &a->live, "give up after S seconds without a pose");
 }
 
+// 1 sigma of the pose's parameter `i` (x, y, pan, tilt, swing), from its covariance.
+double Sigma(const Pose& pose, int i) { return std::sqrt(std::max(0.0, pose.covariance[6 * i])); }
+
 // Poses of a camera of the running service, over DDS.
 int LocateLive(const LocateArgs& a) {
   const std::string& camera = *a.live.camera;
@@ -114,6 +117,9 @@ int LocateLive(const LocateArgs& a) {
   int status = kExitOk;
   auto client = OpenClient(a.live, &status);
   if (!client) return status;
+  // A wrong name or a floor camera is said at once, not after --timeout without a pose.
+  if (auto cam = FindServiceCamera(*client, camera, a.live.domain, "corner"); !cam)
+    return Fail(cam.error(), kExitFailure);
   const bool follow = a.follow;
   // Poses arrive on the subscription's thread; printed here, in order.
   std::mutex mutex;
@@ -150,8 +156,10 @@ int LocateLive(const LocateArgs& a) {
       std::cout << std::fixed << std::setprecision(4) << camera << " frame " << pose.frame_sequence
                 << "  x=" << pose.x_m << " y=" << pose.y_m << " z=" << pose.z_m
                 << " m  pan=" << pose.pan_rad << " tilt=" << pose.tilt_rad
-                << " swing=" << pose.swing_rad << " rad  rms " << std::setprecision(3)
-                << pose.rms_px << " px  " << (pose.tracked ? "tracked" : "detected");
+                << " swing=" << pose.swing_rad << " rad  (1σ " << Sigma(pose, 0) << " "
+                << Sigma(pose, 1) << " m, " << Sigma(pose, 2) << " " << Sigma(pose, 3) << " "
+                << Sigma(pose, 4) << " rad)  rms " << std::setprecision(3) << pose.rms_px << " px  "
+                << (pose.tracked ? "tracked" : "detected");
       if (pose.level_sigma_rad > 0) {
         std::cout << std::setprecision(2) << "  level "
                   << pose.level_error_rad * 180 / std::numbers::pi << " deg off as solved (1σ "

@@ -132,6 +132,7 @@ struct CalibrateArgs {
   double pixel_sigma_px = kDefaultPixelSigmaPx;
   std::optional<std::string> overlay;
   bool write = false;
+  bool force = false;
   bool json = false;
   LiveOptions live;
 };
@@ -173,6 +174,9 @@ void DeclareCalibrate(CommandLine& line, CalibrateArgs* a) {
             "write a picture: corners found (green), the board reprojected through the result "
             "(blue), the horizon (orange), the robot frame's axes X_w (red) and Y_w (magenta), "
             "distances ahead (yellow)");
+  line.Flag("--force", &a->force,
+            "keep a result whose height is no robot's (outside 0.05-10 m), which is refused "
+            "otherwise as the likely sign of --square in the wrong unit");
   line.Flag("--write", &a->write,
             "store the result in CAL.pbtxt (atomically); refused when the result is "
             "ill-conditioned");
@@ -187,6 +191,27 @@ void DeclareCalibrate(CommandLine& line, CalibrateArgs* a) {
   // A camera that has just started may take the service up to 20 s to deliver a first frame.
   a->live.timeout_s = 30;
   DeclareServiceOptions(line, &a->live, "give up after S seconds");
+}
+
+// A floor calibration's height scales with the board's square: a height no robot's camera has
+// is most likely a square given in centimetres or millimetres. Empty when the height is one
+// a robot's camera may have.
+std::optional<std::string> UnitSlip(double height_m, double square_m) {
+  constexpr double kLowestM = 0.05, kHighestM = 10;
+  if (height_m >= kLowestM && height_m <= kHighestM) return std::nullopt;
+  std::ostringstream os;
+  os << std::setprecision(4) << "a camera " << height_m
+     << " m above the floor is no robot's (expected " << kLowestM << "-" << kHighestM
+     << " m): --square is in metres, and the height scales with it.";
+  // Read as centimetres or millimetres, would the square give a robot's height?
+  for (const auto& [factor, unit] : {std::pair{0.01, "cm"}, std::pair{0.001, "mm"}}) {
+    const double height = height_m * factor;
+    if (height < kLowestM || height > kHighestM) continue;
+    os << " If the square is " << square_m << " " << unit << ", give --square " << square_m * factor
+       << " (height " << height << " m).";
+  }
+  os << " --force keeps this result.";
+  return os.str();
 }
 
 // The service calibrates its camera from the camera's next frame, stores and publishes it.
@@ -244,6 +269,10 @@ int Calibrate(const std::vector<std::string>& argv) {
   const FloorGuidance guidance =
       AdviseFloorCalibration(calibration->intrinsics, calibration->intrinsics_covariance, *result,
                              calibrated->board, a.pixel_sigma_px, a.target);
+  // An ill-conditioned result's height means nothing; a determined one can be judged.
+  if (const auto slip = UnitSlip(result->pose.height_m, a.board.square_m);
+      slip && !guidance.ill_conditioned && !a.force)
+    return Fail(*slip, kExitFailure);
 
   std::string overlay;
   if (a.overlay) {

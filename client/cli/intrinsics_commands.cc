@@ -233,6 +233,13 @@ void PrintWarnings(const IntrinsicCalibration& cal, const std::string& written,
   }
 }
 
+// Whether distortion term `i` (k1 k2 p1 p2 k3) is fitted in `model`, or held at 0.
+bool DistortionTermFitted(DistortionModel model, int i) {
+  if (i < 2) return true;
+  if (i < 4) return model != DistortionModel::kK1K2;
+  return model == DistortionModel::kK1K2P1P2K3;
+}
+
 void PrintText(const IntrinsicCalibration& cal, size_t found, size_t images,
                const std::string& written) {
   const auto& k = cal.intrinsics;
@@ -245,9 +252,14 @@ void PrintText(const IntrinsicCalibration& cal, size_t found, size_t images,
             << "cx cy       " << k.cx << " ± " << sigma[2] << "   " << k.cy << " ± " << sigma[3]
             << " px\n"
             << std::setprecision(5);
-  for (int i = 0; i < 5; ++i)
-    std::cout << std::setw(12) << std::left << names[i] << std::right << k.distortion[i] << " ± "
-              << sigma[4 + i] << "\n";
+  for (int i = 0; i < 5; ++i) {
+    std::cout << std::setw(12) << std::left << names[i] << std::right << k.distortion[i];
+    if (DistortionTermFitted(cal.model, i)) {
+      std::cout << " ± " << sigma[4 + i] << "\n";
+    } else {
+      std::cout << " (fixed: not in the " << ToString(cal.model) << " model)\n";
+    }
+  }
   std::cout << "model       " << cal.model_reason << "\n"
             << std::setprecision(4) << "rms         " << cal.rms_px
             << " px (one corner coordinate: 1σ " << cal.corner_sigma_px << " px)\n"

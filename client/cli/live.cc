@@ -10,6 +10,32 @@ namespace monocle::cli {
 
 int Fail(const ClientError& error) { return Fail(error.message, kExitFailure); }
 
+Result<CameraStatus> FindServiceCamera(Client& client, const std::string& name, int domain,
+                                       const std::string& role) {
+  auto cameras = client.status();
+  if (!cameras) return MakeError(ErrorCode::kIo, cameras.error().message);
+  std::string known, of_role;
+  std::optional<CameraStatus> found;
+  for (const CameraStatus& c : *cameras) {
+    known += (known.empty() ? "" : ", ") + c.camera_id + " (" + c.role + ")";
+    const bool fits = role.empty() || c.role.find(role) != std::string::npos;
+    if (fits) of_role += (of_role.empty() ? "" : ", ") + c.camera_id;
+    if (c.camera_id == name || c.ros_namespace == name) found = c;
+  }
+  if (!found) {
+    return MakeError(ErrorCode::kNotFound,
+                     "no camera '" + name + "' on DDS domain " + std::to_string(domain) +
+                         (known.empty() ? " (no service answered)" : " (cameras: " + known + ")"));
+  }
+  if (!role.empty() && found->role.find(role) == std::string::npos) {
+    return MakeError(ErrorCode::kInvalidArgument,
+                     "camera '" + name + "' is a " + found->role + " camera, not a " + role +
+                         " camera (" + role + " cameras: " + (of_role.empty() ? "none" : of_role) +
+                         ")");
+  }
+  return *found;
+}
+
 proto::LivePoseOutput ToLiveOutput(const Pose& s) {
   proto::LivePoseOutput out;
   out.set_camera(s.camera_id);

@@ -113,8 +113,6 @@ int NamespacesOf(const std::vector<std::string>& wanted, const std::vector<Camer
   return kExitOk;
 }
 
-}  // namespace
-
 struct RecordArgs {
   std::string out;
   std::vector<std::string> cameras;
@@ -143,6 +141,52 @@ void DeclareRecord(CommandLine& line, RecordArgs* a) {
   line.Flag("--zstd", &a->options.zstd, "compress the file losslessly (zstd chunks)");
   DeclareServiceOptions(line, &a->live, "wait up to S seconds for the service's cameras");
 }
+
+// Records until `duration_s` (0: no limit), a stop signal in `stop` or the recorder's error;
+// `progress`, when given, is shown as it goes.
+void RecordUntilStopped(const record::Recorder& recorder, double duration_s, const sigset_t& stop,
+                        Progress* progress) {
+  const auto start = std::chrono::steady_clock::now();
+  while (true) {
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (progress) progress->Show(elapsed, recorder);
+    if ((duration_s > 0 && elapsed >= duration_s) || recorder.error()) break;
+    double wait_s = 0.5;
+    if (duration_s > 0) wait_s = std::min(wait_s, duration_s - elapsed);
+    const timespec wait{static_cast<time_t>(wait_s),
+                        static_cast<long>((wait_s - std::floor(wait_s)) * 1e9)};
+    if (sigtimedwait(&stop, nullptr, &wait) > 0) break;
+  }
+}
+
+// Per recorded camera, how many of the frames it took while recording were recorded, and why
+// fewer (`before`: the cameras' status when the recording began).
+void ReportFrames(Client& client, const std::vector<CameraStatus>& before,
+                  const std::set<std::string>& namespaces, int frames_every,
+                  const record::Recorder& recorder) {
+  const auto after = client.status();
+  if (!after) return;
+  for (const CameraStatus& b : before) {
+    if (!namespaces.count(b.ros_namespace)) continue;
+    uint64_t recorded = 0;
+    for (const record::TopicStats& t : recorder.stats())
+      if (t.topic == b.ros_namespace + "/image_raw") recorded = t.messages;
+    for (const CameraStatus& a : *after) {
+      if (a.camera_id != b.camera_id || a.frames < b.frames) continue;
+      const uint64_t taken = a.frames - b.frames, asked = taken / frames_every;
+      std::cerr << "monocle: " << b.camera_id << ": " << recorded << " of its " << taken
+                << " frames recorded";
+      if (recorded + 1 < asked) {
+        std::cerr << " (" << asked << " asked; the service sent no more: its "
+                  << "image_max_rate_hz caps them)";
+      }
+      std::cerr << "\n";
+    }
+  }
+}
+
+}  // namespace
 
 int RecordCommand(const std::vector<std::string>& argv) {
   RecordArgs a;
@@ -182,6 +226,12 @@ int RecordCommand(const std::vector<std::string>& argv) {
   }
   auto participant = dds::CreateParticipant(domain, security);
   if (!participant) return Fail(participant.error(), kExitFailure);
+  if (options.frames_every > 0) {
+    std::cerr << "monocle: note: the service sends a camera's frames at most at its "
+                 "image_max_rate_hz (configuration, default 5 Hz), so --frames records at most "
+                 "that many a second; to record every frame, raise image_max_rate_hz or record "
+                 "in monocled itself (monocled --record FILE.mcap --record-frames every)\n";
+  }
   auto recorder = record::Recorder::Start(*participant, *out, options);
   if (!recorder) return Fail(recorder.error(), kExitFailure);
   for (const std::string& s : (*recorder)->skipped()) {
@@ -191,17 +241,7 @@ int RecordCommand(const std::vector<std::string>& argv) {
   const bool tty = ::isatty(STDERR_FILENO) == 1;
   Progress progress;
   const auto start = std::chrono::steady_clock::now();
-  while (true) {
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (tty) progress.Show(elapsed, **recorder);
-    if ((*duration_s > 0 && elapsed >= *duration_s) || (*recorder)->error()) break;
-    double wait_s = 0.5;
-    if (*duration_s > 0) wait_s = std::min(wait_s, *duration_s - elapsed);
-    const timespec wait{static_cast<time_t>(wait_s),
-                        static_cast<long>((wait_s - std::floor(wait_s)) * 1e9)};
-    if (sigtimedwait(&stop, nullptr, &wait) > 0) break;
-  }
+  RecordUntilStopped(**recorder, *duration_s, stop, tty ? &progress : nullptr);
   const Status finished = (*recorder)->Finish();
   if (tty) {
     progress.Show(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
@@ -211,6 +251,8 @@ int RecordCommand(const std::vector<std::string>& argv) {
     return Fail(finished.error().message + "; " + *out + " holds everything before it",
                 kExitFailure);
   }
+  if (options.frames_every > 0)
+    ReportFrames(*client, *cameras, namespaces, options.frames_every, **recorder);
   if (tty) std::cerr << "recorded " << *out << "\n";
   return kExitOk;
 }

@@ -18,7 +18,8 @@ constexpr const char* kStatusAbout =
 role, state (streaming, reconnecting, stopped), frames per second, frames received, dropped
 (sent by the camera, never received), skipped (not processed because processing was busy),
 processing latency (frame received -> result published, median over the status period, ms),
-and the last error. Two monocled serving the same namespace are reported (exit status 1).)";
+and the last error. Exit status 1 when a camera has failed (a configuration error, e.g. a
+device that is no camera: it is not retried) or two monocled serve the same namespace.)";
 
 proto::StatusOutput ToOutput(const CameraStatus& s) {
   proto::StatusOutput out;
@@ -87,6 +88,13 @@ int StatusCommand(const std::vector<std::string>& argv) {
     std::cerr << "monocle: warning: " << clash
               << ": their topics and requests mix; give each robot its own ros_namespace "
                  "(service/README.md, \"Several robots on one domain\")\n";
+    exit_status = kExitFailure;
+  }
+  // A camera that failed for good (a configuration error) makes the service unhealthy: the
+  // container's healthcheck runs this command.
+  for (const auto& s : *current) {
+    if (s.state != CameraState::kFailed) continue;
+    std::cerr << "monocle: error: camera '" << s.camera_id << "' failed: " << s.last_error << "\n";
     exit_status = kExitFailure;
   }
   if (!watch) return exit_status;

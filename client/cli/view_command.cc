@@ -150,24 +150,13 @@ struct ViewedCamera {
 };
 
 int FindCamera(Client& client, int domain, const std::string& name, ViewedCamera* out) {
-  auto cameras = client.status();
-  if (!cameras) return Fail(cameras.error());
-  std::optional<CameraStatus> cam;
-  std::string known;
-  for (const auto& c : *cameras) {
-    known += (known.empty() ? "" : ", ") + c.camera_id;
-    if (c.camera_id == name) cam = c;
-  }
-  if (!cam) {
-    return Fail("no camera '" + name + "' on DDS domain " + std::to_string(domain) +
-                    (known.empty() ? " (no service answered)" : " (cameras: " + known + ")"),
-                kExitFailure);
-  }
+  auto cam = FindServiceCamera(client, name, domain);
+  if (!cam) return Fail(cam.error(), kExitFailure);
   auto calibrations = client.calibrations();
   if (!calibrations) return Fail(calibrations.error());
   std::optional<Calibration> calibration;
   for (const auto& c : *calibrations)
-    if (c.camera_id == name) calibration = c;
+    if (c.camera_id == cam->camera_id) calibration = c;
   if (!calibration)
     return Fail("the service published no calibration of '" + name + "'", kExitFailure);
   // The calibration file's own text, as the service published it: intrinsics and floor pose.

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 namespace monocle {
@@ -25,6 +26,17 @@ Error Invalid(const std::string& source, const std::string& field, const std::st
 }
 
 bool Finite(double v) { return std::isfinite(v); }
+
+// A length in metres that must lie in (0, 1000]: the message says so, and a value that reads
+// like millimetres (the papers' unit) says what it would be in metres.
+std::optional<Error> CheckMetres(const std::string& source, const std::string& field, double v,
+                                 const std::string& what) {
+  if (v > 0 && Finite(v) && v <= 1000) return std::nullopt;
+  std::ostringstream os;
+  os << "must be " << what << " in metres, more than 0 and at most 1000";
+  if (Finite(v) && v > 1000) os << "; " << v << " reads like millimetres: " << v / 1000 << " m";
+  return Invalid(source, field, os.str());
+}
 
 // The intrinsics section into `out` (intrinsics, their covariance and model).
 Status ParseIntrinsicsSection(const proto::Calibration& msg, const std::string& source,
@@ -97,8 +109,9 @@ Result<FloorCalibration> ParseFloorSection(const proto::Calibration& msg,
   const auto& f = msg.floor();
   FloorCalibration fc;
   if (!f.has_height()) return Invalid(source, "floor.height", "is missing");
-  if (!(f.height() > 0) || !Finite(f.height()) || f.height() > 1000)
-    return Invalid(source, "floor.height", "must be a positive height in metres");
+  if (auto wrong = CheckMetres(source, "floor.height", f.height(),
+                               "the optical centre's height above the floor"))
+    return *wrong;
   if (!f.has_pitch()) return Invalid(source, "floor.pitch", "is missing");
   if (!Finite(f.pitch()) || f.pitch() <= 0 || f.pitch() >= std::numbers::pi) {
     return Invalid(
@@ -153,8 +166,9 @@ Status ParseCornerSection(const proto::Calibration& msg, const std::string& sour
   CameraCalibration& out = *out_calibration;
   if (msg.has_corner() && msg.corner().has_ceiling_distance()) {
     const double z = msg.corner().ceiling_distance();
-    if (!(z > 0) || !Finite(z) || z > 1000)
-      return Invalid(source, "corner.ceiling_distance", "must be a positive distance in metres");
+    if (auto wrong = CheckMetres(source, "corner.ceiling_distance", z,
+                                 "the optical centre's distance to the ceiling"))
+      return *wrong;
     out.ceiling_distance_m = z;
   }
   if (msg.has_corner() && msg.corner().has_max_swing()) {

@@ -20,11 +20,11 @@
 namespace monocle::mcap {
 
 struct WriterOptions {
-  std::string profile = "ros2";           // the MCAP profile (ROS 2: CDR messages)
-  std::string library = "monocle 0.1.0";  // who wrote the file
-  size_t chunk_bytes = 1u << 20;          // a chunk is closed once its records reach this
-  bool zstd = false;                      // compress chunks losslessly with zstd
-  int zstd_level = 1;                     // fast: a recorder must keep up with the camera
+  std::string profile = "ros2";                      // the MCAP profile (ROS 2: CDR messages)
+  std::string library = "monocle " MONOCLE_VERSION;  // who wrote the file
+  size_t chunk_bytes = 1u << 20;  // a chunk is closed once its records reach this
+  bool zstd = false;              // compress chunks losslessly with zstd
+  int zstd_level = 1;             // fast: a recorder must keep up with the camera
   // Stop writing (a clear error, the summary still written) when the file system has less
   // than this free before a chunk; 0 disables the check.
   uint64_t keep_free_bytes = 16u << 20;

@@ -75,6 +75,13 @@ void CameraWorker::Stop() {
 void CameraWorker::SetState(SourceState state, const std::string& error) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    // Each change of state goes to the log once (a camera retried keeps its state), so a
+    // camera that cannot be opened is said there as well as on the status topic.
+    const bool first_error = status_.last_error.empty() && !error.empty();
+    if (state != SourceState::kStreaming && (state != status_.state || first_error)) {
+      std::cerr << "monocled: camera '" << setup_.id << "' " << ToString(state)
+                << (error.empty() ? "" : ": " + error) << "\n";
+    }
     status_.state = state;
     if (!error.empty()) {
       status_.last_error = error;

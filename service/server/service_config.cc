@@ -347,26 +347,41 @@ std::string RosNameToken(const std::string& name) {
 Result<ServiceSetup> LoadServiceConfig(const std::string& path) {
   auto text = ReadBoundedFile(path, "configuration file", kMaxTextFileBytes);
   if (!text) return text.error();
-  return ParseServiceConfig(*text, path, std::filesystem::path(path).parent_path().string());
+  // Relative paths in the file are the file's folder's, spelled out in full so an error
+  // names the file that was tried.
+  std::error_code ec;
+  const auto folder = std::filesystem::absolute(path, ec).parent_path().string();
+  return ParseServiceConfig(*text, path, ec ? std::string() : folder);
 }
 
-std::string EmbeddedDefaultConfig() {
-  return R"(# monocled's embedded default: the two in-process simulated cameras.
-# Calibration paths are relative to the state directory (--state-dir).
-domain: 0
-camera {
-  id: "sim-corner"
-  device: "sim-corner"
-  role: CORNER
-  calibration: "sim-corner.pbtxt"
-}
-camera {
-  id: "sim-floor"
-  device: "sim-floor"
-  role: FLOOR
-  calibration: "sim-floor.pbtxt"
-}
-)";
+std::string EmbeddedDefaultConfig(const std::string& calibration_dir) {
+  auto in_dir = [&](const std::string& file) {
+    return calibration_dir.empty() ? file
+                                   : (std::filesystem::path(calibration_dir) / file).string();
+  };
+  return "# monocled's embedded default: the two in-process simulated cameras.\n" +
+         std::string(
+             calibration_dir.empty()
+                 ? "# Calibration paths are relative to the state directory (--state-dir).\n"
+                 : "# Their calibration files are in the state directory, " + calibration_dir +
+                       ".\n") +
+         "domain: 0\n"
+         "camera {\n"
+         "  id: \"sim-corner\"\n"
+         "  device: \"sim-corner\"\n"
+         "  role: CORNER\n"
+         "  calibration: \"" +
+         in_dir("sim-corner.pbtxt") +
+         "\"\n"
+         "}\n"
+         "camera {\n"
+         "  id: \"sim-floor\"\n"
+         "  device: \"sim-floor\"\n"
+         "  role: FLOOR\n"
+         "  calibration: \"" +
+         in_dir("sim-floor.pbtxt") +
+         "\"\n"
+         "}\n";
 }
 
 }  // namespace monocle

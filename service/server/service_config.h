@@ -92,8 +92,9 @@ Result<ServiceSetup> ParseServiceConfig(const std::string& text, const std::stri
 Result<ServiceSetup> LoadServiceConfig(const std::string& path);
 
 // The configuration used when monocled is given none: the in-process simulated cameras
-// sim-corner and sim-floor, with calibration files in `state_dir` (see
-// EnsureSimulatorCalibrations).
-std::string EmbeddedDefaultConfig();
+// sim-corner and sim-floor, with calibration files in the state directory (see
+// EnsureSimulatorCalibrations). `calibration_dir` empty: the paths are relative to it;
+// else they are spelled in that folder, so the text works as a --config of its own.
+std::string EmbeddedDefaultConfig(const std::string& calibration_dir = "");
 
 }  // namespace monocle

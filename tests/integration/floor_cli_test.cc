@@ -3,6 +3,8 @@
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -47,6 +49,39 @@ class FloorCliTest : public ::testing::Test {
 
   TempDir dir_{"monocle_floor_cli"};
 };
+
+// --square in centimetres puts the camera 100x higher: refused, the likely slip named, nothing
+// written; --force keeps it.
+TEST_F(FloorCliTest, ASquareInTheWrongUnitIsRefusedAndNamed) {
+  const std::string calibrate = "floor calibrate " + dir_ / "board.png" + " --calibration " +
+                                dir_ / "cal.pbtxt" + " --board 11x8 --square 5 --write";
+  const std::string before = testing::ReadFile(dir_ / "cal.pbtxt");
+  auto r = RunMonocle(dir_, calibrate);
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find("m above the floor is no robot's"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("If the square is 5 cm, give --square 0.05 (height 1.05"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(testing::ReadFile(dir_ / "cal.pbtxt"), before) << "nothing written";
+  r = RunMonocle(dir_, calibrate + " --force");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing::ReadFile(dir_ / "cal.pbtxt"), before);
+}
+
+// A calibration file in the papers' millimetres: the limit and the likely unit are said.
+TEST_F(FloorCliTest, AHeightInMillimetresIsNamed) {
+  std::string text = testing::ReadFile(dir_ / "truth.pbtxt");
+  const auto at = text.find("height: ", text.find("floor {"));
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, text.find('\n', at) - at, "height: 1013.0");
+  std::ofstream(dir_ / "mm.pbtxt") << text;
+  const auto r = RunMonocle(dir_, "floor measure --calibration " + dir_ / "mm.pbtxt" + " 640,800");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("field 'floor.height' must be the optical centre's height above the floor "
+                       "in metres, more than 0 and at most 1000; 1013 reads like millimetres: "
+                       "1.013 m"),
+            std::string::npos)
+      << r.err;
+}
 
 TEST_F(FloorCliTest, CalibrateWritesTheFileAndMeasureReadsIt) {
   const auto cal =
@@ -280,6 +315,13 @@ TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViewsWithItsSigma) {
     name << "views/view-" << std::setw(2) << std::setfill('0') << i << ".png";
     args += " " + dir / name.str();
   }
+  // As text, with the radial-only model: the terms it does not fit say so, not "0 ± 0".
+  r = RunMonocle(dir, args.substr(0, args.find(" --json")) + " --model k1k2 --out " +
+                          dir / "k1k2.pbtxt" + args.substr(args.find(" --overlay")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("k3          0.00000 (fixed: not in the k1k2 model)"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("0.00000 ± 0.00000"), std::string::npos) << r.out;
   r = RunMonocle(dir, args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("floor section"), std::string::npos) << r.err;

@@ -202,6 +202,16 @@ TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
   EXPECT_EQ(simcam.Stop(), 0);
 }
 
+// A live pose line says its 1 sigma, as an offline one does.
+TEST_F(PoseStreamTest, LiveTextLinesCarryTheirOneSigma) {
+  const auto r =
+      RunMonocle(dir_, "corner locate --camera ceiling --count 2 --timeout 30 --domain " +
+                           std::to_string(kDomain));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(" rad  (1σ "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" m, "), std::string::npos) << r.out;
+}
+
 TEST(PoseStreamNoServiceTest, NoServiceIsAClearError) {
   TempDir dir("monocle_pose_stream_none");
   testing::UseLoopbackDds();

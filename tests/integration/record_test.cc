@@ -191,6 +191,22 @@ TEST_F(RecordTest, TheRecordingHoldsExactlyWhatTheClientReceived) {
   EXPECT_NE(info.out.find("\"/monocle/corner\""), std::string::npos) << info.out;
 }
 
+// --frames every gets what the service sends, at most its image_max_rate_hz: the recorder says
+// so before it starts, how to get every frame, and afterwards how many of each camera's frames
+// it got.
+TEST_F(RecordTest, FramesEverySaysWhatItGetsAndHowToGetMore) {
+  auto recorder = StartRecorder("frames.mcap", {"--frames", "every", "--duration", "3"});
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  ASSERT_EQ(recorder->Stop(), 0) << testing::ReadFile(dir_ / "record.log");
+  const std::string log = testing::ReadFile(dir_ / "record.log");
+  EXPECT_NE(log.find("at most at its image_max_rate_hz"), std::string::npos) << log;
+  EXPECT_NE(log.find("monocled --record FILE.mcap --record-frames every"), std::string::npos)
+      << log;
+  // The simulated corner camera runs at 30 fps, the service sends 5 a second.
+  EXPECT_NE(log.find("monocle: corner: "), std::string::npos) << log;
+  EXPECT_NE(log.find("image_max_rate_hz caps them"), std::string::npos) << log;
+}
+
 TEST_F(RecordTest, ARecorderKilledWithSigkillLeavesARecoverableFile) {
   auto recorder = StartRecorder("killed.mcap", {"--frames", "every"});
   std::this_thread::sleep_for(std::chrono::seconds(4));

@@ -172,3 +172,30 @@ TEST_F(ServiceCommandsTest, StatusReportsEveryCamera) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// A live command given a camera that is not there, or not of the kind it needs, says so at
+// once and names the cameras there are, instead of waiting out its timeout for a pose.
+TEST_F(ServiceCommandsTest, AWrongCameraIsRefusedWithTheCamerasThereAre) {
+  auto r = RunMonocle(dir_, "corner locate --camera cornr" + Domain());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("no camera 'cornr' on DDS domain"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("corner (corner)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("floor (floor)"), std::string::npos) << r.err;
+
+  r = RunMonocle(dir_, "corner locate --camera floor" + Domain());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("camera 'floor' is a floor camera, not a corner camera (corner cameras: "
+                       "corner)"),
+            std::string::npos)
+      << r.err;
+
+  r = RunMonocle(dir_, "view --camera cornr --out " + dir_ / "live.png" + Domain());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("no camera 'cornr'"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace monocle
