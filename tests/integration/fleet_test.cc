@@ -170,9 +170,11 @@ TEST(FleetTest, ANewcomerRefusesANamespaceAlreadyServed) {
     ASSERT_TRUE((*p)[0].ok());
     EXPECT_NEAR((*p)[0].p_robot_m[1], (*before)[0].p_robot_m[1], 1e-9) << i;
   }
+  // The refused camera is a failed one: `monocle status` lists it and exits with 1, naming it.
   const auto status = RunMonocle(a, "status --timeout 30 --domain " + std::to_string(kDomain));
-  EXPECT_EQ(status.exit_code, 0) << status.err;
+  EXPECT_EQ(status.exit_code, 1) << status.err;
   EXPECT_NE(status.out.find("failed"), std::string::npos) << status.out;
+  EXPECT_NE(status.err.find("camera 'front' failed: not served"), std::string::npos) << status.err;
 
   // The first service notices the newcomer and says so in its log and its camera's status.
   bool noticed = false;
