@@ -411,10 +411,14 @@ ClientResult<Pose> Client::pose(const std::string& camera, PoseWhich which) {
 ClientResult<FloorCalibrationResult> Client::calibrate_floor(const std::string& camera,
                                                              int board_cols, int board_rows,
                                                              double square_m) {
+  return calibrate_floor(camera, board_cols, board_rows, square_m, FloorCalibrationOptions{});
+}
+
+ClientResult<FloorCalibrationResult> Client::calibrate_floor(
+    const std::string& camera, int board_cols, int board_rows, double square_m,
+    const FloorCalibrationOptions& options) {
   monocle_msgs_srv_dds__CalibrateFloor_Request_ request{};
-  request.board_cols = board_cols;
-  request.board_rows = board_rows;
-  request.square_m = square_m;
+  wire::ToSample(board_cols, board_rows, square_m, options, &request);
   return impl_->Call<FloorCalibrationResult>(
       impl_->floor, camera, "floor", wire::kCalibrateFloor,
       &monocle_msgs_srv_dds__CalibrateFloor_Request__desc,

@@ -76,7 +76,7 @@ void DeclareLocate(CommandLine& line, LocateArgs* a) {
   line.Flag("--json", &a->json,
             "one JSON object per line: image x y z pan tilt swing quaternion corner_px rms_px "
             "sigma lines (with each edge's support) source suspect [suspect_reason] noise_grey "
-            "[shading_shift_m] [measured_again] [map] [level_error_deg level_sigma_deg], or "
+            "[shading_shift_m] [measured_again] [map] [level_error_deg level_sigma_deg] [base], or "
             "image error; live: the same inside {camera, sequence, capture_time_ns, "
             "time_source, pose}");
   line.InForms({0});
@@ -165,6 +165,7 @@ int LocateLive(const LocateArgs& a) {
                   << pose.level_error_rad * 180 / std::numbers::pi << " deg off as solved (1σ "
                   << pose.level_sigma_rad * 180 / std::numbers::pi << " deg)";
       }
+      if (pose.base_known) std::cout << BaseText(ToLiveOutput(pose).pose().base());
       std::cout << (pose.suspect ? "  SUSPECT: " + pose.suspect_reason : "") << std::endl;
       if (pose.map_status == MapStatus::kLocated) {
         std::cout << std::setprecision(4) << "  map: " << pose.map_corner << " (room "

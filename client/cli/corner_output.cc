@@ -1,6 +1,7 @@
 #include "client/cli/corner_output.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -8,11 +9,11 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "client/cli/overlay_text.h"
 #include "service/io/image_codec.h"
 #include "service/vision/corner_detector.h"
 #include "service/vision/corner_rays.h"
 #include "service/vision/corner_tracker.h"
+#include "service/vision/overlay_text.h"
 
 namespace monocle::cli {
 namespace {
@@ -197,7 +198,42 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
     out.set_level_error_deg(*r->level_error_rad * 180 / std::numbers::pi);
     out.set_level_sigma_deg(r->level_sigma_rad * 180 / std::numbers::pi);
   }
+  if (r->base) {
+    const RigidTransform& b = r->base->corner_base;
+    std::array<double, 9> covariance;
+    for (int i = 0; i < 9; ++i)
+      covariance[static_cast<size_t>(i)] = r->base->covariance(i / 3, i % 3);
+    *out.mutable_base() =
+        ToBaseOutput({b.translation.x(), b.translation.y(), b.translation.z()},
+                     {b.rotation.w(), b.rotation.x(), b.rotation.y(), b.rotation.z()},
+                     r->base->heading_rad, covariance);
+  }
   return out;
+}
+
+proto::BasePoseOutput ToBaseOutput(const std::array<double, 3>& position_m,
+                                   const std::array<double, 4>& quaternion_wxyz, double heading_rad,
+                                   const std::array<double, 9>& covariance) {
+  proto::BasePoseOutput out;
+  out.set_x(position_m[0]);
+  out.set_y(position_m[1]);
+  out.set_z(position_m[2]);
+  out.set_heading_deg(heading_rad * kDeg);
+  out.mutable_sigma()->set_x(std::sqrt(covariance[0]));
+  out.mutable_sigma()->set_y(std::sqrt(covariance[4]));
+  out.mutable_sigma()->set_heading_deg(std::sqrt(covariance[8]) * kDeg);
+  for (double c : covariance) out.add_covariance(c);
+  for (double q : quaternion_wxyz) out.add_quaternion(q);
+  return out;
+}
+
+std::string BaseText(const proto::BasePoseOutput& base) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(4) << "  base x=" << base.x() << " y=" << base.y()
+     << " m heading=" << std::setprecision(2) << base.heading_deg() << " deg  (1σ "
+     << std::setprecision(4) << base.sigma().x() << " " << base.sigma().y() << " m, "
+     << std::setprecision(2) << base.sigma().heading_deg() << " deg)";
+  return os.str();
 }
 
 std::string CornerResultLine(const std::string& label, const CornerLocation& result) {
@@ -214,6 +250,7 @@ std::string CornerResultLine(const std::string& label, const CornerLocation& res
     os << std::setprecision(2) << "  level " << *result.level_error_rad * 180 / std::numbers::pi
        << " deg off as solved (1σ " << result.level_sigma_rad * 180 / std::numbers::pi << " deg)";
   }
+  if (result.base) os << BaseText(ToCornerOutput("", result).base());
   if (result.suspect) os << "  SUSPECT: " << result.suspect_reason;
   return os.str();
 }

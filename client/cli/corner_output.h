@@ -2,6 +2,7 @@
 // object (idl/cli_output.proto CornerOutput), and the overlay picture.
 #pragma once
 
+#include <array>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -17,6 +18,14 @@ extern const char* kAxisName[3];  // "X", "Y", "Z": the corner frame's axes, edg
 std::string CornerResultLine(const std::string& label, const CornerLocation& result);
 
 proto::CornerOutput ToCornerOutput(const std::string& image, const Result<CornerLocation>& r);
+
+// The robot base in the corner frame, as the JSON shows it: from its position (metres),
+// orientation (w, x, y, z), heading (rad) and the covariance of (x, y, heading).
+proto::BasePoseOutput ToBaseOutput(const std::array<double, 3>& position_m,
+                                   const std::array<double, 4>& quaternion_wxyz, double heading_rad,
+                                   const std::array<double, 9>& covariance);
+// "  base x=... y=... m heading=... deg  (1σ x y m, heading deg)", as pose lines end.
+std::string BaseText(const proto::BasePoseOutput& base);
 
 // The image in colour with what the locator saw and concluded: the straight segments the
 // detector found, the three edges as far as they were measured, the edges the chosen pose

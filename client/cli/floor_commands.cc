@@ -1,5 +1,6 @@
 // monocle floor calibrate | measure (offline: image and calibration files).
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <numbers>
@@ -9,12 +10,12 @@
 #include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/floor_map.h"
-#include "client/cli/floor_overlay.h"
 #include "client/cli/live.h"
 #include "client/cli/shared_options.h"
 #include "idl/cli_output.pb.h"
 #include "service/io/calibration_file.h"
 #include "service/pipeline/point_queries.h"
+#include "service/vision/floor_overlay.h"
 
 #include <unistd.h>
 #include <chrono>
@@ -148,14 +149,6 @@ void DeclareCalibrate(CommandLine& line, CalibrateArgs* a) {
   line.Flag("--json", &a->json,
             "print one JSON object: height pitch yaw roll rms_px sigma{...} method corners "
             "written board accuracy[] target_* advice[] ill_conditioned explanation overlay");
-  line.InForms({0});
-  line.Positionals("IMAGE", &a->image, "a picture of the chessboard lying on the floor", 1, 1);
-  line.Text("--calibration", &a->calibration_path, "CAL.pbtxt",
-            "calibration file with the camera's intrinsics");
-  line.Require("--calibration");
-  line.Choice("--method", &a->method, {"full", "paper"},
-              "full: all six degrees of freedom by minimising the corners' reprojection error; "
-              "paper: Xu et al. eq. (13) by least squares, then eq. (15); roll is fixed at 0");
   line.Custom("--target-sigma", "M[@D]",
               "the accuracy you need: 1 sigma of a floor point at most M metres, D metres ahead "
               "(default 3). Says whether this calibration meets it and, if not, what to change: "
@@ -171,12 +164,21 @@ void DeclareCalibrate(CommandLine& line, CalibrateArgs* a) {
               "noise of a measured pixel for the accuracy figures, as floor measure",
               In("pixels").AtLeast(0));
   line.Text("--overlay", &a->overlay, "OUT.png",
-            "write a picture: corners found (green), the board reprojected through the result "
+            "write a picture (live: sent by the service, written here): corners found (green), the "
+            "board reprojected through the result "
             "(blue), the horizon (orange), the robot frame's axes X_w (red) and Y_w (magenta), "
             "distances ahead (yellow)");
   line.Flag("--force", &a->force,
             "keep a result whose height is no robot's (outside 0.05-10 m), which is refused "
             "otherwise as the likely sign of --square in the wrong unit");
+  line.InForms({0});
+  line.Positionals("IMAGE", &a->image, "a picture of the chessboard lying on the floor", 1, 1);
+  line.Text("--calibration", &a->calibration_path, "CAL.pbtxt",
+            "calibration file with the camera's intrinsics");
+  line.Require("--calibration");
+  line.Choice("--method", &a->method, {"full", "paper"},
+              "full: all six degrees of freedom by minimising the corners' reprojection error; "
+              "paper: Xu et al. eq. (13) by least squares, then eq. (15); roll is fixed at 0");
   line.Flag("--write", &a->write,
             "store the result in CAL.pbtxt (atomically); refused when the result is "
             "ill-conditioned");
@@ -184,61 +186,72 @@ void DeclareCalibrate(CommandLine& line, CalibrateArgs* a) {
       "Live, from the running service (monocled) over DDS, instead of IMAGE and "
       "--calibration");
   line.Text("--camera", &a->live.camera, "ID",
-            "a floor camera of the service: it calibrates from the camera's next frame, writes "
-            "its calibration file atomically and publishes the new calibration (topic "
-            "/monocle/calibrations); a camera that has just started is waited for up to 20 s");
+            "a floor camera of the service: it calibrates from the camera's next frame, reports "
+            "as above, writes its calibration file atomically and publishes the new "
+            "calibration (topic /monocle/calibrations); an ill-conditioned result, or one whose "
+            "height is no robot's (without --force), is not stored. A camera that has just "
+            "started is waited for up to 20 s");
   line.Require("--camera");
   // A camera that has just started may take the service up to 20 s to deliver a first frame.
   a->live.timeout_s = 30;
   DeclareServiceOptions(line, &a->live, "give up after S seconds");
 }
 
-// A floor calibration's height scales with the board's square: a height no robot's camera has
-// is most likely a square given in centimetres or millimetres. Empty when the height is one
-// a robot's camera may have.
-std::optional<std::string> UnitSlip(double height_m, double square_m) {
-  constexpr double kLowestM = 0.05, kHighestM = 10;
-  if (height_m >= kLowestM && height_m <= kHighestM) return std::nullopt;
-  std::ostringstream os;
-  os << std::setprecision(4) << "a camera " << height_m
-     << " m above the floor is no robot's (expected " << kLowestM << "-" << kHighestM
-     << " m): --square is in metres, and the height scales with it.";
-  // Read as centimetres or millimetres, would the square give a robot's height?
-  for (const auto& [factor, unit] : {std::pair{0.01, "cm"}, std::pair{0.001, "mm"}}) {
-    const double height = height_m * factor;
-    if (height < kLowestM || height > kHighestM) continue;
-    os << " If the square is " << square_m << " " << unit << ", give --square " << square_m * factor
-       << " (height " << height << " m).";
-  }
-  os << " --force keeps this result.";
-  return os.str();
+// The result and its report as printed, offline or live.
+proto::FloorCalibrationOutput ToOutput(const FloorPoseEstimate& floor, const std::string& method,
+                                       uint32_t corners, const FloorGuidance& report) {
+  proto::FloorCalibrationOutput out;
+  out.set_height(floor.height_m);
+  out.set_pitch(floor.pitch_rad);
+  out.set_yaw(floor.yaw_rad);
+  out.set_roll(floor.roll_rad);
+  out.set_rms_px(floor.rms_px);
+  out.set_method(method);
+  out.set_corners(corners);
+  out.mutable_sigma()->set_height(floor.sigma[0]);
+  out.mutable_sigma()->set_pitch(floor.sigma[1]);
+  out.mutable_sigma()->set_yaw(floor.sigma[2]);
+  out.mutable_sigma()->set_roll(floor.sigma[3]);
+  AddGuidance(report, &out);
+  return out;
 }
 
-// The service calibrates its camera from the camera's next frame, stores and publishes it.
+Status WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream file(path, std::ios::binary);
+  file.write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  if (!file.flush()) return MakeError(ErrorCode::kIo, "cannot write " + path);
+  return Ok{};
+}
+
+// The service calibrates its camera from the camera's next frame, reports, stores and
+// publishes it; the picture it sends is written here.
 int CalibrateLive(const CalibrateArgs& a) {
   int status = kExitOk;
   auto client = OpenClient(a.live, &status);
   if (!client) return status;
   const std::string& camera = *a.live.camera;
   const BoardSpec spec = a.board.Spec();
-  const auto r = client->calibrate_floor(camera, spec.cols, spec.rows, spec.square_m);
+  FloorCalibrationOptions options;
+  options.pixel_sigma_px = a.pixel_sigma_px;
+  options.target = a.target;
+  options.force = a.force;
+  options.overlay = a.overlay.has_value();
+  const auto r = client->calibrate_floor(camera, spec.cols, spec.rows, spec.square_m, options);
   if (!r) return Fail(r.error());
-  proto::FloorCalibrationOutput out;
-  out.set_height(r->floor.height_m);
-  out.set_pitch(r->floor.pitch_rad);
-  out.set_yaw(r->floor.yaw_rad);
-  out.set_roll(r->floor.roll_rad);
-  out.set_rms_px(r->floor.rms_px);
-  out.set_method("full");
-  out.set_corners(r->corners);
+  FloorGuidance report = r->report;
+  report.target = a.target;  // the verdict came back; the target is the one asked for
+  proto::FloorCalibrationOutput out = ToOutput(r->floor, "full", r->corners, report);
+  if (a.overlay) {
+    if (r->overlay_png.empty()) return Fail("monocled sent no picture for --overlay", kExitFailure);
+    if (const auto w = WriteBytes(*a.overlay, r->overlay_png); !w)
+      return Fail(w.error(), kExitFailure);
+    out.set_overlay(*a.overlay);
+  }
   out.set_written(r->file);
   out.set_camera(camera);
   out.set_sequence(r->frame_sequence);
   out.set_revision(r->revision);
-  out.mutable_sigma()->set_height(r->floor.sigma[0]);
-  out.mutable_sigma()->set_pitch(r->floor.sigma[1]);
-  out.mutable_sigma()->set_yaw(r->floor.sigma[2]);
-  out.mutable_sigma()->set_roll(r->floor.sigma[3]);
   PrintFloorCalibration(out, a.json);
   return kExitOk;
 }
@@ -270,7 +283,7 @@ int Calibrate(const std::vector<std::string>& argv) {
       AdviseFloorCalibration(calibration->intrinsics, calibration->intrinsics_covariance, *result,
                              calibrated->board, a.pixel_sigma_px, a.target);
   // An ill-conditioned result's height means nothing; a determined one can be judged.
-  if (const auto slip = UnitSlip(result->pose.height_m, a.board.square_m);
+  if (const auto slip = FloorHeightUnitSlip(result->pose.height_m, a.board.square_m);
       slip && !guidance.ill_conditioned && !a.force)
     return Fail(*slip, kExitFailure);
 
@@ -289,22 +302,17 @@ int Calibrate(const std::vector<std::string>& argv) {
     if (!saved) return Fail(saved.error(), kExitFailure);
     written = cal_path;
   }
-  proto::FloorCalibrationOutput out;
-  out.set_height(result->pose.height_m);
-  out.set_pitch(result->pose.pitch_rad);
-  out.set_yaw(result->pose.yaw_rad);
-  out.set_roll(result->pose.roll_rad);
-  out.set_rms_px(result->rms_px);
-  out.set_method(ToString(method));
-  out.set_corners(static_cast<uint32_t>(corners));
-  out.set_written(written);
   const auto sigma = result->Sigma();
-  out.mutable_sigma()->set_height(sigma[0]);
-  out.mutable_sigma()->set_pitch(sigma[1]);
-  out.mutable_sigma()->set_yaw(sigma[2]);
-  out.mutable_sigma()->set_roll(sigma[3]);
+  const FloorPoseEstimate estimate{result->pose.height_m,
+                                   result->pose.pitch_rad,
+                                   result->pose.yaw_rad,
+                                   result->pose.roll_rad,
+                                   {sigma[0], sigma[1], sigma[2], sigma[3]},
+                                   result->rms_px};
+  proto::FloorCalibrationOutput out =
+      ToOutput(estimate, ToString(method), static_cast<uint32_t>(corners), guidance);
+  out.set_written(written);
   out.set_overlay(overlay);
-  AddGuidance(guidance, &out);
   PrintFloorCalibration(out, a.json);
   if (guidance.ill_conditioned) {
     return Fail(std::string("no usable floor calibration") +

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "client/cli/commands.h"
+#include "client/cli/corner_output.h"
 
 namespace monocle::cli {
 
@@ -69,6 +70,10 @@ proto::LivePoseOutput ToLiveOutput(const Pose& s) {
   if (s.level_sigma_rad > 0) {  // monocled combined the pose with the mount's level
     p->set_level_error_deg(s.level_error_rad * 180 / std::numbers::pi);
     p->set_level_sigma_deg(s.level_sigma_rad * 180 / std::numbers::pi);
+  }
+  if (s.base_known) {
+    *p->mutable_base() = ToBaseOutput(s.base_position_m, s.base_quaternion_wxyz, s.base_heading_rad,
+                                      s.base_covariance);
   }
   if (s.map_status != MapStatus::kNone) {
     // The same "map" object as `corner locate --map` (the service sends no candidate list,

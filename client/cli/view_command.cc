@@ -14,9 +14,7 @@
 
 #include "client/cli/command_line.h"
 #include "client/cli/commands.h"
-#include "client/cli/floor_overlay.h"
 #include "client/cli/live.h"
-#include "client/cli/overlay_text.h"
 #include "client/cli/shared_options.h"
 #include "idl/protocol/dds.h"
 #include "idl/protocol/wire.h"
@@ -24,6 +22,8 @@
 #include "service/io/calibration_file.h"
 #include "service/io/image_codec.h"
 #include "service/vision/corner_tracker.h"
+#include "service/vision/floor_overlay.h"
+#include "service/vision/overlay_text.h"
 
 namespace monocle::cli {
 namespace {

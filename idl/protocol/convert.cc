@@ -100,6 +100,13 @@ void ToSample(const Pose& p, monocle_msgs_msg_dds__CornerPose_* out) {
   out->map_reason = Chars(p.map_reason);
   out->level_error = p.level_error_rad;
   out->level_sigma = p.level_sigma_rad;
+  out->base_known = p.base_known;
+  const auto& b = p.base_position_m;
+  const auto& bq = p.base_quaternion_wxyz;
+  out->base.position = {b[0], b[1], b[2]};
+  out->base.orientation = {bq[1], bq[2], bq[3], bq[0]};  // ROS order: x, y, z, w
+  out->base_heading = p.base_heading_rad;
+  std::copy(p.base_covariance.begin(), p.base_covariance.end(), out->base_covariance);
 }
 
 Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
@@ -144,6 +151,12 @@ Pose FromSample(const monocle_msgs_msg_dds__CornerPose_& s) {
   p.map_reason = Text(s.map_reason);
   p.level_error_rad = s.level_error;
   p.level_sigma_rad = s.level_sigma;
+  p.base_known = s.base_known;
+  p.base_position_m = {s.base.position.x, s.base.position.y, s.base.position.z};
+  p.base_quaternion_wxyz = {s.base.orientation.w, s.base.orientation.x, s.base.orientation.y,
+                            s.base.orientation.z};
+  p.base_heading_rad = s.base_heading;
+  std::copy(std::begin(s.base_covariance), std::end(s.base_covariance), p.base_covariance.begin());
   return p;
 }
 
@@ -381,7 +394,32 @@ Result<std::vector<MeasuredPoint>> FromSample(
   return out;
 }
 
-void ToSample(const FloorCalibrationResult& r,
+void ToSample(int board_cols, int board_rows, double square_m,
+              const FloorCalibrationOptions& options,
+              monocle_msgs_srv_dds__CalibrateFloor_Request_* out) {
+  out->board_cols = board_cols;
+  out->board_rows = board_rows;
+  out->square_m = square_m;
+  out->pixel_sigma_px = options.pixel_sigma_px;
+  out->target_sigma_m = options.target ? options.target->sigma_m : 0;
+  out->target_distance_m = options.target ? options.target->distance_m : 0;
+  out->force = options.force;
+  out->overlay = options.overlay;
+}
+
+FloorCalibrationOptions OptionsFromSample(const monocle_msgs_srv_dds__CalibrateFloor_Request_& s) {
+  FloorCalibrationOptions o;
+  o.pixel_sigma_px = s.pixel_sigma_px;
+  if (s.target_sigma_m != 0) {
+    o.target =
+        FloorAccuracyTarget{s.target_sigma_m, s.target_distance_m != 0 ? s.target_distance_m : 3.0};
+  }
+  o.force = s.force;
+  o.overlay = s.overlay;
+  return o;
+}
+
+void ToSample(const FloorCalibrationResult& r, FloorReplyStorage* storage,
               monocle_msgs_srv_dds__CalibrateFloor_Response_* out) {
   out->height_m = r.floor.height_m;
   out->pitch = r.floor.pitch_rad;
@@ -393,6 +431,28 @@ void ToSample(const FloorCalibrationResult& r,
   out->frame_sequence = r.frame_sequence;
   out->file = Chars(r.file);
   out->revision = r.revision;
+  const FloorGuidance& g = r.report;
+  out->board_distance_m = g.board.distance_m;
+  out->board_depth_span_m = g.board.depth_span_m;
+  out->board_image_fraction = g.board.image_fraction;
+  out->board_sight_angle_deg = g.board.sight_angle_deg;
+  storage->accuracy.clear();
+  for (const FloorAccuracyAt& a : g.accuracy) {
+    storage->accuracy.push_back({a.distance_m, a.in_image, a.sigma_m, a.calibration_sigma_m,
+                                 a.intrinsics_sigma_m, a.pixel_sigma_m});
+  }
+  Borrow(storage->accuracy, &out->accuracy);
+  out->ill_conditioned = g.ill_conditioned;
+  out->explanation = Chars(g.ill_conditioned_reason);
+  out->target_met = g.target_met;
+  out->target_met_out_to_m = g.target_met_out_to_m;
+  storage->advice.clear();
+  for (const std::string& a : g.advice) storage->advice.push_back(Chars(a));
+  Borrow(storage->advice, &out->advice);
+  out->overlay_png._buffer = const_cast<uint8_t*>(r.overlay_png.data());  // only read
+  out->overlay_png._length = out->overlay_png._maximum =
+      static_cast<uint32_t>(r.overlay_png.size());
+  out->overlay_png._release = false;
 }
 
 FloorCalibrationResult FromSample(const monocle_msgs_srv_dds__CalibrateFloor_Response_& s) {
@@ -403,6 +463,20 @@ FloorCalibrationResult FromSample(const monocle_msgs_srv_dds__CalibrateFloor_Res
   r.frame_sequence = s.frame_sequence;
   r.file = Text(s.file);
   r.revision = s.revision;
+  FloorGuidance& g = r.report;
+  g.board = {s.board_distance_m, s.board_depth_span_m, s.board_image_fraction,
+             s.board_sight_angle_deg};
+  for (uint32_t i = 0; i < s.accuracy._length; ++i) {
+    const auto& a = s.accuracy._buffer[i];
+    g.accuracy.push_back({a.distance_m, a.in_image, a.sigma_m, a.calibration_sigma_m,
+                          a.intrinsics_sigma_m, a.pixel_sigma_m});
+  }
+  g.ill_conditioned = s.ill_conditioned;
+  g.ill_conditioned_reason = Text(s.explanation);
+  g.target_met = s.target_met;
+  g.target_met_out_to_m = s.target_met_out_to_m;
+  for (uint32_t i = 0; i < s.advice._length; ++i) g.advice.push_back(Text(s.advice._buffer[i]));
+  r.overlay_png.assign(s.overlay_png._buffer, s.overlay_png._buffer + s.overlay_png._length);
   return r;
 }
 

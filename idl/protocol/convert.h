@@ -65,7 +65,19 @@ void ToSample(WireRequestStatus status, const std::string& error,
 Result<std::vector<MeasuredPoint>> FromSample(
     const monocle_msgs_srv_dds__MeasurePoints_Response_& s);
 
-void ToSample(const FloorCalibrationResult& result,
+// The board and what is asked beyond it; its options back from a request (the board's fields
+// are read as they are, and checked by the service).
+void ToSample(int board_cols, int board_rows, double square_m,
+              const FloorCalibrationOptions& options,
+              monocle_msgs_srv_dds__CalibrateFloor_Request_* out);
+FloorCalibrationOptions OptionsFromSample(const monocle_msgs_srv_dds__CalibrateFloor_Request_& s);
+
+// A floor calibration reply's sequences, held while a sample points into them.
+struct FloorReplyStorage {
+  std::vector<monocle_msgs_msg_dds__FloorAccuracy_> accuracy;
+  std::vector<char*> advice;
+};
+void ToSample(const FloorCalibrationResult& result, FloorReplyStorage* storage,
               monocle_msgs_srv_dds__CalibrateFloor_Response_* out);
 FloorCalibrationResult FromSample(const monocle_msgs_srv_dds__CalibrateFloor_Response_& s);
 

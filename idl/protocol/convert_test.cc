@@ -46,6 +46,11 @@ TEST(ConvertTest, PoseRoundTrip) {
   p.map_reason = "";
   p.level_error_rad = 0.004;
   p.level_sigma_rad = 0.0017;
+  p.base_known = true;
+  p.base_position_m = {1.4, -2.3, 3.1};
+  p.base_quaternion_wxyz = {0.5, -0.5, 0.5, 0.5};
+  p.base_heading_rad = 1.2;
+  for (size_t i = 0; i < 9; ++i) p.base_covariance[i] = static_cast<double>(i) * 0.125;
   monocle_msgs_msg_dds__CornerPose_ s;
   ToSample(p, &s);
   // ROS's quaternion order is x, y, z, w.
@@ -90,6 +95,13 @@ TEST(ConvertTest, PoseRoundTrip) {
   EXPECT_EQ(back.map_candidates, p.map_candidates);
   EXPECT_EQ(back.level_error_rad, p.level_error_rad);
   EXPECT_EQ(back.level_sigma_rad, p.level_sigma_rad);
+  EXPECT_EQ(s.base.orientation.w, 0.5) << "ROS order x, y, z, w";
+  EXPECT_EQ(s.base.orientation.x, -0.5);
+  EXPECT_EQ(back.base_known, p.base_known);
+  EXPECT_EQ(back.base_position_m, p.base_position_m);
+  EXPECT_EQ(back.base_quaternion_wxyz, p.base_quaternion_wxyz);
+  EXPECT_EQ(back.base_heading_rad, p.base_heading_rad);
+  EXPECT_EQ(back.base_covariance, p.base_covariance);
   s.map_status = static_cast<monocle_msgs_msg_dds__MapStatus>(17);
   EXPECT_EQ(FromSample(s).map_status, MapStatus::kNone) << "a status from a newer service";
 
@@ -272,9 +284,35 @@ TEST(ConvertTest, FloorCalibrationResultRoundTrip) {
   r.frame_sequence = 7;
   r.file = "floor.pb.txt";
   r.revision = 2;
+  r.report.board = {2.5, 0.4, 0.12, 31};
+  r.report.accuracy = {{1, true, 0.002, 0.0015, 0.0005, 0.001}, {4, false, 0.03, 0.02, 0.01, 0.02}};
+  r.report.ill_conditioned = true;
+  r.report.ill_conditioned_reason = "the board is too small";
+  r.report.target_met = false;
+  r.report.target_met_out_to_m = 1.5;
+  r.report.advice = {"lay the board nearer", "use larger squares"};
+  r.overlay_png = {0x89, 'P', 'N', 'G', 0, 255};
   monocle_msgs_srv_dds__CalibrateFloor_Response_ s{};
-  ToSample(r, &s);
+  FloorReplyStorage storage;
+  ToSample(r, &storage, &s);
   const auto b = FromSample(s);
+  EXPECT_EQ(b.report.board.distance_m, 2.5);
+  EXPECT_EQ(b.report.board.depth_span_m, 0.4);
+  EXPECT_EQ(b.report.board.image_fraction, 0.12);
+  EXPECT_EQ(b.report.board.sight_angle_deg, 31);
+  ASSERT_EQ(b.report.accuracy.size(), 2u);
+  EXPECT_EQ(b.report.accuracy[1].distance_m, 4);
+  EXPECT_FALSE(b.report.accuracy[1].in_image);
+  EXPECT_EQ(b.report.accuracy[0].sigma_m, 0.002);
+  EXPECT_EQ(b.report.accuracy[0].calibration_sigma_m, 0.0015);
+  EXPECT_EQ(b.report.accuracy[0].intrinsics_sigma_m, 0.0005);
+  EXPECT_EQ(b.report.accuracy[0].pixel_sigma_m, 0.001);
+  EXPECT_TRUE(b.report.ill_conditioned);
+  EXPECT_EQ(b.report.ill_conditioned_reason, "the board is too small");
+  EXPECT_FALSE(b.report.target_met);
+  EXPECT_EQ(b.report.target_met_out_to_m, 1.5);
+  EXPECT_EQ(b.report.advice, r.report.advice);
+  EXPECT_EQ(b.overlay_png, r.overlay_png);
   EXPECT_EQ(b.floor.height_m, 1.1);
   EXPECT_EQ(b.floor.sigma, r.floor.sigma);
   EXPECT_EQ(b.floor.rms_px, 0.15);
@@ -282,6 +320,33 @@ TEST(ConvertTest, FloorCalibrationResultRoundTrip) {
   EXPECT_EQ(b.frame_sequence, 7u);
   EXPECT_EQ(b.file, "floor.pb.txt");
   EXPECT_EQ(b.revision, 2u);
+}
+
+TEST(ConvertTest, FloorCalibrationRequestRoundTrip) {
+  FloorCalibrationOptions o;
+  o.pixel_sigma_px = 0.3;
+  o.target = FloorAccuracyTarget{0.01, 4};
+  o.force = true;
+  o.overlay = true;
+  monocle_msgs_srv_dds__CalibrateFloor_Request_ s{};
+  ToSample(9, 6, 0.025, o, &s);
+  EXPECT_EQ(s.board_cols, 9);
+  EXPECT_EQ(s.board_rows, 6);
+  EXPECT_EQ(s.square_m, 0.025);
+  const FloorCalibrationOptions back = OptionsFromSample(s);
+  EXPECT_EQ(back.pixel_sigma_px, 0.3);
+  ASSERT_TRUE(back.target.has_value());
+  EXPECT_EQ(back.target->sigma_m, 0.01);
+  EXPECT_EQ(back.target->distance_m, 4);
+  EXPECT_TRUE(back.force);
+  EXPECT_TRUE(back.overlay);
+  // A caller that sets neither (a ROS 2 client of the old layout's fields): no target, and a
+  // target without its distance is 3 m ahead.
+  s.target_sigma_m = 0;
+  EXPECT_FALSE(OptionsFromSample(s).target.has_value());
+  s.target_sigma_m = 0.02;
+  s.target_distance_m = 0;
+  EXPECT_EQ(OptionsFromSample(s).target->distance_m, 3.0);
 }
 
 }  // namespace

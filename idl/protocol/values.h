@@ -8,9 +8,12 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 // PixelQuery, PointStatus, MeasuredPoint: the core's types (service/common/point_query.h).
 #include "monocle/point_query.h"
+// FloorAccuracyTarget, FloorGuidance: the core's (service/common/floor_report.h).
+#include "monocle/floor_report.h"
 
 // The library is built with hidden symbols; this marks its public interface.
 #if defined(__GNUC__)
@@ -64,6 +67,13 @@ struct Pose {
   // solved tipped the robot base from level, and the level's 1 sigma. Both 0 when no level was
   // applied.
   double level_error_rad = 0, level_sigma_rad = 0;
+  // With the camera's mount: the robot base in the corner frame (as /tf shows it without a
+  // room map). base_known is false without a mount or without a corner pose.
+  bool base_known = false;
+  std::array<double, 3> base_position_m{};       // base origin in the corner frame (Z down)
+  std::array<double, 4> base_quaternion_wxyz{};  // base frame -> corner frame
+  double base_heading_rad = 0;                   // base +x from the corner's X towards Y
+  std::array<double, 9> base_covariance{};       // row-major 3x3 of (x, y, heading)
 };
 
 enum class PoseWhich { kLatest, kNextFrame };
@@ -97,12 +107,24 @@ struct FloorPoseEstimate {
   double rms_px = 0;
 };
 
+// What a floor calibration is asked for beyond the board (monocle_msgs/CalibrateFloor).
+struct FloorCalibrationOptions {
+  double pixel_sigma_px = 0.5;  // noise of a query pixel, for the report's 1 sigma figures
+  std::optional<FloorAccuracyTarget> target;  // the accuracy wanted: the report judges it
+  bool force = false;    // store a height outside 0.05-10 m, refused as a likely unit slip
+  bool overlay = false;  // send back the result drawn over the frame (overlay_png)
+};
+
 struct FloorCalibrationResult {
   FloorPoseEstimate floor;
   uint32_t corners = 0;         // board corners used
   uint64_t frame_sequence = 0;  // the frame calibrated from
   std::string file;             // written (atomically) on the service's machine
   uint64_t revision = 0;        // of the calibration now published
+  // Where the board lay, the 1 sigma of a floor point ahead, the target, advice (no
+  // `suggestions`: their advice says them in words).
+  FloorGuidance report;
+  std::vector<uint8_t> overlay_png;  // asked for: the result drawn over the frame, PNG
 };
 
 struct Calibration {

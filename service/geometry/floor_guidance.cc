@@ -5,7 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <iomanip>
 #include <numbers>
+#include <sstream>
+#include <utility>
 
 namespace monocle {
 namespace {
@@ -322,6 +325,25 @@ FloorGuidance AdviseFloorCalibration(const CameraIntrinsics& k,
         corner_sigma_px, Metres(at.calibration_sigma_m).c_str(), d));
   }
   return g;
+}
+
+std::optional<std::string> FloorHeightUnitSlip(double height_m, double square_m,
+                                               const UnitSlipWords& words) {
+  constexpr double kLowestM = 0.05, kHighestM = 10;
+  if (height_m >= kLowestM && height_m <= kHighestM) return std::nullopt;
+  std::ostringstream os;
+  os << std::setprecision(4) << "a camera " << height_m
+     << " m above the floor is no robot's (expected " << kLowestM << "-" << kHighestM
+     << " m): " << words.square << " is in metres, and the height scales with it.";
+  // Read as centimetres or millimetres, would the square give a robot's height?
+  for (const auto& [factor, unit] : {std::pair{0.01, "cm"}, std::pair{0.001, "mm"}}) {
+    const double height = height_m * factor;
+    if (height < kLowestM || height > kHighestM) continue;
+    os << " If the square is " << square_m << " " << unit << ", give " << words.square << " "
+       << square_m * factor << " (height " << height << " m).";
+  }
+  os << " " << words.force << " keeps this result.";
+  return os.str();
 }
 
 }  // namespace monocle

@@ -65,6 +65,10 @@ CornerPipelineResult CornerPipeline::Process(const cv::Mat& grey,
     level.level_sigma_rad = *options_.level_sigma_rad;
     ApplyMountLevel(*options_.base_camera, level, quality, &*out.corner);
   }
+  if (out.corner && options_.base_camera) {
+    out.corner->base =
+        BaseInCornerFrame(out.corner->pose, out.corner->covariance, *options_.base_camera);
+  }
   out.map = PlaceInMap(intrinsics, out.corner);
   return out;
 }

@@ -1,7 +1,9 @@
 // Answers <floor camera namespace>/calibrate_floor (monocle_msgs/srv/CalibrateFloor): takes
 // the camera's next frame, finds the chessboard lying on the floor, calibrates (Xu et al.
-// 2017, full model), saves the calibration file atomically, hands it to the camera and
-// announces it (on_calibrated publishes it on /monocle/calibrations).
+// 2017, full model) and reports how good the result is (floor_guidance.h, with the picture
+// when asked); then saves the calibration file atomically, hands it to the camera and
+// announces it (on_calibrated publishes it on /monocle/calibrations). A result that carries
+// no information, or whose height is no robot's (a unit slip, unless forced), is not stored.
 #pragma once
 
 #include <functional>
@@ -28,14 +30,16 @@ class FloorCalibrationHandler {
       CalibrationStore& calibrations, FindWorker find_worker, OnCalibrated on_calibrated);
 
   // What the handler does with a request, without DDS or camera (the fuzz target drives
-  // these): the board it names, whether that is a board (an invalid request if not), and the
-  // calibration from one frame with it (the frame's sequence named in the error).
+  // these): the board it names and what is asked beyond it, whether those are valid (an
+  // invalid request if not), and the calibration from one frame with it (the frame's
+  // sequence named in the error).
   struct Board {
     int32_t cols = 0, rows = 0;
     double square_m = 0;
+    FloorCalibrationOptions options;
   };
   static Board Parse(const monocle_msgs_srv_dds__CalibrateFloor_Request_& request);
-  static Result<BoardSpec> CheckBoard(const Board& board);
+  static Result<BoardSpec> CheckRequest(const Board& board);
   static Result<FloorCalibrationFromImage> CalibrateFrame(const Frame& frame,
                                                           const CameraCalibration& calibration,
                                                           const BoardSpec& board);
@@ -49,6 +53,9 @@ class FloorCalibrationHandler {
   // The calibration result, or the status and message of the failure.
   Result<FloorCalibrationResult> Calibrate(const CameraSetup& camera, const Board& board,
                                            monocle_msgs_msg_dds__RequestStatus* status);
+  // Stores `cal` with its new floor section and announces it: the file and revision.
+  Status Store(const CameraSetup& camera, CameraWorker& worker, const CameraCalibration& cal,
+               FloorCalibrationResult* out);
 
   CalibrationStore& calibrations_;
   FindWorker find_worker_;

@@ -76,6 +76,15 @@ Pose PoseOf(const CameraSetup& camera, const ProcessedFrame& frame) {
     p.level_error_rad = *c.level_error_rad;
     p.level_sigma_rad = c.level_sigma_rad;
   }
+  if (c.base) {
+    p.base_known = true;
+    const RigidTransform& b = c.base->corner_base;
+    p.base_position_m = {b.translation.x(), b.translation.y(), b.translation.z()};
+    p.base_quaternion_wxyz = {b.rotation.w(), b.rotation.x(), b.rotation.y(), b.rotation.z()};
+    p.base_heading_rad = c.base->heading_rad;
+    for (int i = 0; i < 9; ++i)
+      p.base_covariance[static_cast<size_t>(i)] = c.base->covariance(i / 3, i % 3);
+  }
   if (frame.map) SetMapFields(*frame.map, &p);
   return p;
 }

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "service/common/result.h"
+#include "service/geometry/base_in_corner.h"
 #include "service/geometry/camera_model.h"
 #include "service/geometry/corner_pose.h"
 #include "service/vision/corner_detector.h"
@@ -84,6 +85,8 @@ struct CornerLocation {
   // base from level, before the two were combined, and the level's 1 sigma (radians).
   std::optional<double> level_error_rad;
   double level_sigma_rad = 0;
+  // With the camera's mount: the robot base in the corner frame, from the pose above.
+  std::optional<BaseInCorner> base;
   CornerEdges edges;  // what the detector saw (overlays)
 
   Eigen::Matrix<double, 5, 1> Sigma() const { return covariance.diagonal().cwiseSqrt(); }

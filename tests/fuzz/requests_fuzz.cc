@@ -211,7 +211,8 @@ void FloorCalibrationRequest(fuzz::Bytes& in, bool raw) {
     built.square_m = in.Byte() % 2 ? in.Double() : 0.05;
     FUZZ_CHECK(Decode(Encode(built, request.desc), &request));
   }
-  const auto board = FloorCalibrationHandler::CheckBoard(FloorCalibrationHandler::Parse(request.s));
+  const auto board =
+      FloorCalibrationHandler::CheckRequest(FloorCalibrationHandler::Parse(request.s));
   if (!board) {
     FUZZ_CHECK(!board.error().message.empty());
     return;

@@ -17,6 +17,7 @@
 #include "service/geometry/test_scenes.h"
 #include "service/io/calibration_file.h"
 #include "tests/integration/cli_process.h"
+#include "tests/integration/mount_geometry.h"
 
 namespace monocle {
 namespace {
@@ -272,13 +273,9 @@ TEST_F(CornerCliTest, ACameraMountedRolledSaysSoInItsCalibration) {
 }
 
 // A mount file (CameraMount) for a camera looking ahead and up, `up_deg` from the vertical,
-// upright: written here from the geometry, not with monocle's code.
+// upright, 0.4 m above the base's origin and 0.1 m ahead of it.
 void WriteMountLookingUp(const std::string& path, double up_deg) {
-  const double t = up_deg * M_PI / 180;
-  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t)), x(0, -1, 0);
-  Eigen::Matrix3d r;
-  r << x, z.cross(x), z;
-  const Eigen::Quaterniond q(r);
+  const Eigen::Quaterniond q = testing::CameraLookingUp(up_deg);
   std::ofstream(path) << std::setprecision(12) << "base_frame: \"base_link\"\n"
                       << "translation_m: [0.1, 0, 0.4]\n"
                       << "rotation_xyzw: [" << q.x() << ", " << q.y() << ", " << q.z() << ", "
@@ -301,6 +298,7 @@ TEST_F(CornerCliTest, AMountsLevelIsCombinedWithThePoseAndAWrongMountIsSuspect) 
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &alone).ok()) << r.out;
   EXPECT_FALSE(alone.has_level_error_deg());
+  EXPECT_FALSE(alone.has_base()) << "no mount, no base";
   r = RunMonocle(dir_, "corner locate " + dir_ / "up50.png" + " --calibration " +
                            dir_ / "cal.pbtxt" + " --mount " + dir_ / "mount50.pbtxt" +
                            " --level-sigma 0.1 --json");
@@ -315,6 +313,8 @@ TEST_F(CornerCliTest, AMountsLevelIsCombinedWithThePoseAndAWrongMountIsSuspect) 
   // degrees, so by little; the weakly determined views gain most, corner_accuracy_test).
   EXPECT_LT(level.sigma().tilt(), alone.sigma().tilt());
   EXPECT_LE(level.sigma().x(), alone.sigma().x());
+  // With a mount the robot's base comes with the pose, with its 1 sigma.
+  testing::ExpectBaseUnderTheCamera(level, {2.5, 1.2});
   // A mount 3 degrees off what the image shows: suspect, with how far.
   r = RunMonocle(dir_, "corner locate " + dir_ / "up50.png" + " --calibration " +
                            dir_ / "cal.pbtxt" + " --mount " + dir_ / "mount53.pbtxt" + " --json");
@@ -328,6 +328,7 @@ TEST_F(CornerCliTest, AMountsLevelIsCombinedWithThePoseAndAWrongMountIsSuspect) 
                            dir_ / "cal.pbtxt" + " --mount " + dir_ / "mount53.pbtxt");
   EXPECT_NE(r.out.find("SUSPECT"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("level 3.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" deg)  base x="), std::string::npos) << r.out;
   // Errors that say what to do.
   r = RunMonocle(dir_, "corner locate " + dir_ / "up50.png" + " --calibration " +
                            dir_ / "cal.pbtxt" + " --mount " + dir_ / "mount50.pbtxt" +

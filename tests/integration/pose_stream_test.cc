@@ -17,6 +17,7 @@
 #include "idl/cli_output.pb.h"
 #include "monocle/client.h"
 #include "tests/integration/live_poses.h"
+#include "tests/integration/mount_geometry.h"
 #include "tests/integration/service_process.h"
 
 namespace monocle {
@@ -133,14 +134,9 @@ TEST_F(PoseStreamTest, PoseQueriesAnswerTheLatestAndTheNextFrame) {
   EXPECT_NE(unknown.error().message.find("unknown camera 'no-such-camera'"), std::string::npos);
 }
 
-// The CameraMount text of a camera looking ahead and up, `up_deg` from the vertical,
-// upright (written from the geometry here, not with monocle's code).
+// The CameraMount text of a camera looking ahead and up, `up_deg` from the vertical, upright.
 std::string MountLookingUp(double up_deg) {
-  const double t = up_deg * M_PI / 180;
-  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t)), x(0, -1, 0);
-  Eigen::Matrix3d r;
-  r << x, z.cross(x), z;
-  const Eigen::Quaterniond q(r);
+  const Eigen::Quaterniond q = testing::CameraLookingUp(up_deg);
   std::ostringstream text;
   text << std::setprecision(12) << "mount { base_frame: \"base_link\" translation_m: [0.1, 0, 0.4] "
        << "rotation_xyzw: [" << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "] }";
@@ -194,9 +190,19 @@ TEST(LevelledPoseStreamTest, TheMountsLevelIsCombinedAndAWrongMountIsSuspect) {
         EXPECT_NE(out.pose().suspect_reason().find("deg from level (allowed 1.00 deg;"),
                   std::string::npos)
             << out.pose().suspect_reason();
+      } else {
+        testing::ExpectBaseUnderTheCamera(out.pose(), truth);
       }
     }
     EXPECT_EQ(poses.size(), 4u);
+    if (!wrong) {
+      // The text line ends with the base too.
+      const auto text = RunMonocle(dir,
+                                   "corner locate --camera ceiling --count 1 --timeout 30 "
+                                   "--domain " +
+                                       std::to_string(kLevelDomain));
+      EXPECT_NE(text.out.find(" deg)  base x="), std::string::npos) << text.out << text.err;
+    }
     EXPECT_EQ(monocled->Stop(), 0) << testing::ReadFile(dir / "monocled.log");
   }
   EXPECT_EQ(simcam.Stop(), 0);

@@ -1,11 +1,15 @@
 // monocled with both simulated cameras in its own process: floor calibration commands (file
 // written, calibration published), the status topic, and typed errors for bad commands.
 #include <google/protobuf/util/json_util.h>
+#include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 
 #include <optional>
 #include <sstream>
 #include <thread>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "camera/sim/sim_gv_camera.h"
 #include "idl/cli_output.pb.h"
@@ -90,6 +94,98 @@ TEST_F(ServiceCommandsTest, FloorCalibrationWritesTheFileAndPublishesIt) {
       RunMonocle(dir_, "floor measure --json --calibration " + dir_ / "floor.pbtxt" + " 640,900");
   const auto live = RunMonocle(dir_, "floor measure --json --camera floor 640,900" + Domain());
   EXPECT_EQ(live.out, offline.out) << live.err;
+}
+
+// The live command reports as the offline one does: where the board lay, the 1 sigma of a
+// floor point ahead, the target's verdict, advice, and the picture, written where the client
+// asks. The service calibrated from one of the simulated camera's two frames, rendered here
+// again: the offline command on that frame prints the same report and draws the same picture.
+TEST_F(ServiceCommandsTest, LiveFloorCalibrationReportsAsTheOfflineCommandDoes) {
+  const std::string report_flags = " --board 11x8 --square 0.05 --target-sigma 0.001@3 --json";
+  const auto r = RunMonocle(dir_, "floor calibrate --camera floor --overlay " + dir_ / "live.png" +
+                                      report_flags + Domain());
+  ASSERT_EQ(r.exit_code, 0) << r.err << testing::ReadFile(dir_ / "monocled.log");
+  proto::FloorCalibrationOutput live;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &live).ok()) << r.out;
+  ASSERT_TRUE(live.has_board()) << r.out;
+  EXPECT_GT(live.board().distance(), SimFloorPose().height_m);
+  EXPECT_EQ(live.accuracy_size(), 4) << "1, 2 and 4 m and the target's distance";
+  ASSERT_TRUE(live.has_target_met());
+  EXPECT_FALSE(live.target_met()) << "1 mm at 3 m is more than one board view gives";
+  EXPECT_GT(live.advice_size(), 0);
+  EXPECT_EQ(live.overlay(), dir_ / "live.png");
+  const cv::Mat live_picture = cv::imread(dir_ / "live.png", cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(live_picture.empty());
+  EXPECT_EQ(live_picture.size(), cv::Size(1280, 1024));
+  EXPECT_EQ(live_picture.channels(), 3);
+  // The text says the same as the offline command's, with the camera and revision.
+  const auto text = RunMonocle(dir_,
+                               "floor calibrate --camera floor --board 11x8 --square 0.05 "
+                               "--target-sigma 0.001@3" +
+                                   Domain());
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  for (const char* line : {"board   ", "accuracy of a floor point straight ahead", "target  ",
+                           "advice  ", "camera  floor, frame "})
+    EXPECT_NE(text.out.find(line), std::string::npos) << line << " in\n" << text.out;
+
+  SimCameraOptions sim;
+  sim.scene = SimScene::kFloor;
+  sim.serial = "sim-floor";
+  const auto scenes = SimScenes::Render(sim);
+  ASSERT_TRUE(scenes.ok()) << scenes.error();
+  proto::FloorCalibrationOutput expected = live;
+  for (auto* field :
+       {expected.mutable_camera(), expected.mutable_written(), expected.mutable_overlay()})
+    field->clear();
+  expected.clear_sequence();
+  expected.clear_revision();
+  std::string offline_outputs;
+  bool same = false;
+  for (uint64_t frame = 0; frame < 2 && !same; ++frame) {
+    const std::string image = dir_ / ("frame" + std::to_string(frame) + ".png");
+    ASSERT_TRUE(cv::imwrite(image, (*scenes)->FrameFor(frame)));
+    const auto offline =
+        RunMonocle(dir_, "floor calibrate " + image + " --calibration " + dir_ / "floor.pbtxt" +
+                             " --overlay " + dir_ / "offline.png" + report_flags);
+    ASSERT_EQ(offline.exit_code, 0) << offline.err;
+    offline_outputs += offline.out;
+    proto::FloorCalibrationOutput out;
+    ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(offline.out, &out).ok());
+    out.clear_overlay();
+    if (!google::protobuf::util::MessageDifferencer::Equals(out, expected)) continue;
+    same = true;
+    const cv::Mat offline_picture = cv::imread(dir_ / "offline.png", cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(offline_picture.size(), live_picture.size());
+    EXPECT_EQ(cv::norm(offline_picture, live_picture, cv::NORM_INF), 0) << "the same picture";
+  }
+  EXPECT_TRUE(same) << "live: " << r.out << "offline, frame 0 and 1:\n" << offline_outputs;
+}
+
+// A square in centimetres gives a height no robot's camera has: refused with the likely slip
+// and not stored, unless forced; an ill-formed report request is an invalid request.
+TEST_F(ServiceCommandsTest, ALiveUnitSlipIsRefusedUnlessForced) {
+  const std::string before = testing::ReadFile(dir_ / "floor.pbtxt");
+  auto r = RunMonocle(dir_, "floor calibrate --camera floor --board 11x8 --square 5" + Domain());
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find("m above the floor is no robot's"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("If the square is 5 cm, give --square (square_m) 0.05"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("left unchanged"), std::string::npos) << r.err;
+  EXPECT_EQ(testing::ReadFile(dir_ / "floor.pbtxt"), before);
+  r = RunMonocle(
+      dir_, "floor calibrate --camera floor --board 11x8 --square 5 --force --json" + Domain());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  proto::FloorCalibrationOutput out;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &out).ok()) << r.out;
+  EXPECT_NEAR(out.height(), 100 * SimFloorPose().height_m, SimFloorPose().height_m);
+  EXPECT_NE(testing::ReadFile(dir_ / "floor.pbtxt"), before);
+
+  FloorCalibrationOptions bad;
+  bad.pixel_sigma_px = -1;
+  const auto refused = client_->calibrate_floor("floor", 11, 8, 0.05, bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, ClientError::Code::kInvalidRequest) << refused.error();
+  EXPECT_NE(refused.error().message.find("pixel_sigma_px"), std::string::npos) << refused.error();
 }
 
 TEST_F(ServiceCommandsTest, BadCalibrationCommandsGetTypedErrors) {

@@ -110,7 +110,14 @@ class MONOCLE_CLIENT_API Client {
   // The latest pose of a corner camera, or the pose of its next frame.
   ClientResult<Pose> pose(const std::string& camera, PoseWhich which = PoseWhich::kLatest);
   // Calibrates a floor camera from its next frame showing a chessboard lying on the floor
-  // (cols x rows inner corners, squares of `square_m`); the service stores and publishes it.
+  // (cols x rows inner corners, squares of `square_m`); the service stores and publishes it,
+  // and reports how good it is (`report`: where the board lay, the 1 sigma ahead, the
+  // target's verdict, advice; the picture with options.overlay). A result that carries no
+  // information, or whose height is outside 0.05-10 m (a square in the wrong unit?) unless
+  // options.force, is an error and not stored.
+  ClientResult<FloorCalibrationResult> calibrate_floor(const std::string& camera, int board_cols,
+                                                       int board_rows, double square_m,
+                                                       const FloorCalibrationOptions& options);
   ClientResult<FloorCalibrationResult> calibrate_floor(const std::string& camera, int board_cols,
                                                        int board_rows, double square_m);
   // The current status and calibration of every camera of every monocled on the domain.

@@ -7,7 +7,7 @@
 
 #include "service/geometry/floor_guidance.h"
 
-namespace monocle::cli {
+namespace monocle {
 
 // Draws into `image` (colour) what a floor pose means in the picture: lines of constant
 // distance ahead on the floor (yellow, labelled in metres), the horizon (orange) and the robot
@@ -22,4 +22,4 @@ cv::Mat DrawFloorOverlay(const cv::Mat& grey, const CameraIntrinsics& k,
                          const FloorCalibration& floor, const BoardObservation& board,
                          const FloorGuidance& guidance);
 
-}  // namespace monocle::cli
+}  // namespace monocle

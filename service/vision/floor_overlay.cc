@@ -1,6 +1,6 @@
-#include "client/cli/floor_overlay.h"
+#include "service/vision/floor_overlay.h"
 
-#include "client/cli/overlay_text.h"
+#include "service/vision/overlay_text.h"
 
 #include <cmath>
 #include <functional>
@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-namespace monocle::cli {
+namespace monocle {
 namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
@@ -186,4 +186,4 @@ cv::Mat DrawFloorOverlay(const cv::Mat& grey, const CameraIntrinsics& k,
   return image;
 }
 
-}  // namespace monocle::cli
+}  // namespace monocle

@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-namespace monocle::cli {
+namespace monocle {
 
 // `text` at `at` (its baseline's left end), outlined in black `thickness + 3` wide.
 void PutOutlinedText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
@@ -18,4 +18,4 @@ void PutOutlinedText(cv::Mat& image, const std::string& text, cv::Point at, doub
 int PutWrappedText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
                    const cv::Scalar& colour, int thickness);
 
-}  // namespace monocle::cli
+}  // namespace monocle

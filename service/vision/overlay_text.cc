@@ -1,9 +1,9 @@
-#include "client/cli/overlay_text.h"
+#include "service/vision/overlay_text.h"
 
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
 
-namespace monocle::cli {
+namespace monocle {
 
 void PutOutlinedText(cv::Mat& image, const std::string& text, cv::Point at, double scale,
                      const cv::Scalar& colour, int thickness) {
@@ -44,4 +44,4 @@ int PutWrappedText(cv::Mat& image, const std::string& text, cv::Point at, double
   return at.y;
 }
 
-}  // namespace monocle::cli
+}  // namespace monocle
