@@ -174,10 +174,52 @@ Latencies QueryFor(monocle::Client& client, Clock::duration how_long, int max_qu
   return out;
 }
 
+// A legal storm: `clients` clients at once, each asking for `points` points in one request.
+// How much of what it took monocled keeps once every answer is in and it is quiet again:
+// its settled RSS (the least of a quiet second's samples) after, against before. Also whether
+// every client got its answer.
+struct Storm {
+  double peak_growth_mb = 0, kept_mb = 0;
+  int answered = 0;
+};
+
+double QuietLeast(pid_t pid) {
+  double least = 1e12;
+  for (int i = 0; i < 20; ++i) {
+    least = std::min(least, RssMb(pid));
+    std::this_thread::sleep_for(50ms);
+  }
+  return least;
+}
+
+Storm RunStorm(pid_t monocled, int domain, int clients, size_t points) {
+  Storm out;
+  const double before = QuietLeast(monocled);
+  RssWatch watch(monocled);
+  std::atomic<int> answered{0};
+  std::vector<std::thread> threads;
+  for (int c = 0; c < clients; ++c) {
+    threads.emplace_back([&] {
+      auto own = monocle::Client::open({domain, 60s});
+      if (!own) return;
+      const auto r =
+          own->measure("sim-floor", std::vector<monocle::PixelQuery>(points, {640, 900, {}}));
+      if (r && r->size() == points) ++answered;
+    });
+  }
+  for (auto& t : threads) t.join();
+  out.peak_growth_mb = watch.Stop() - before;
+  std::this_thread::sleep_for(1s);  // replies on their way out
+  out.kept_mb = QuietLeast(monocled) - before;
+  out.answered = answered;
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  int domain = 37, clients = 32, queries = 500;
+  int domain = 37, clients = 32, queries = 500, storm_clients = 8;
+  size_t storm_points = 100'000;
   size_t huge_points = 50'000'000;
   double flood_seconds = 10;
   bool json = false;
@@ -197,11 +239,15 @@ int main(int argc, char** argv) {
       clients = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--queries" && v) {
       queries = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--storm-clients" && v) {
+      storm_clients = std::max(0, std::atoi(argv[++i]));
+    } else if (a == "--storm-points" && v) {
+      storm_points = std::strtoull(argv[++i], nullptr, 10);
     } else if (a == "--worker" && v) {
       worker = argv[++i];
     } else {
       std::cerr << "usage: hostile_load [--points N] [--flood-seconds S] [--clients C] "
-                   "[--queries Q] [--domain D] [--json]\n";
+                   "[--queries Q] [--storm-clients N] [--storm-points P] [--domain D] [--json]\n";
       return 2;
     }
   }
@@ -367,6 +413,9 @@ int main(int argc, char** argv) {
     });
   }
   for (auto& t : threads) t.join();
+
+  // 4. A legal storm of large requests, and what monocled keeps of it.
+  const Storm storm = RunStorm(monocled, domain, storm_clients, storm_points);
   const bool alive = waitpid(monocled, nullptr, WNOHANG) == 0;
   Stop(monocled);
 
@@ -389,6 +438,10 @@ int main(int argc, char** argv) {
               << ",\"same_id_flood_rss_growth_mb\":" << same_id.rss_growth
               << ",\"many_queries\":" << many.ms.size() << ",\"many_lost\":" << many.lost
               << ",\"many_p99_ms\":" << Percentile(many.ms, 0.99)
+              << ",\"storm_clients\":" << storm_clients << ",\"storm_points\":" << storm_points
+              << ",\"storm_answered\":" << storm.answered
+              << ",\"storm_peak_growth_mb\":" << storm.peak_growth_mb
+              << ",\"storm_rss_kept_mb\":" << storm.kept_mb
               << ",\"service_alive\":" << (alive ? "true" : "false") << "}\n";
   } else {
     std::cout << std::fixed << std::setprecision(1) << "huge request, " << huge_points
@@ -417,6 +470,10 @@ int main(int argc, char** argv) {
               << " answered, " << many.lost << " lost, p50 " << std::setprecision(2)
               << Percentile(many.ms, 0.5) << " ms, p99 " << Percentile(many.ms, 0.99)
               << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+              << storm_clients << " clients x " << storm_points
+              << " points at once: " << storm.answered << " answered; monocled RSS up "
+              << std::setprecision(1) << storm.peak_growth_mb << " MB at the peak, "
+              << storm.kept_mb << " MB kept once quiet (goal <= 50)\n"
               << "monocled " << (alive ? "still running" : "DIED") << "\n";
   }
   // The run's directory (monocled's state, config and logs) is kept only when monocled died,

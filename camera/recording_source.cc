@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iostream>
 #include <map>
 #include <set>
 #include <thread>
@@ -137,14 +138,27 @@ Status RecordingSource::Rewind() {
   auto reader = mcap::Reader::Open(path_);
   if (!reader) return reader.error();
   reader_ = std::make_unique<mcap::Reader>(std::move(*reader));
-  stream_ = std::make_unique<mcap::Reader::MessageStream>(reader_->Messages());
+  // A damaged chunk costs its frames, not the replay: skipped with a warning.
+  stream_ = std::make_unique<mcap::Reader::MessageStream>(
+      reader_->Messages(/*skip_damaged_chunks=*/true));
+  chunks_warned_ = 0;
   first_stamp_ns_.reset();
   return Ok{};
+}
+
+void RecordingSource::WarnOfSkippedChunks() {
+  const auto& skipped = stream_->skipped();
+  for (; chunks_warned_ < skipped.size(); ++chunks_warned_) {
+    std::cerr << "monocle: warning: " << path_ << ": skipped a damaged chunk at byte "
+              << skipped[chunks_warned_].offset << " (" << skipped[chunks_warned_].why
+              << "); the frames in it are missing\n";
+  }
 }
 
 Result<std::optional<Frame>> RecordingSource::ReadNext() {
   while (true) {
     auto m = stream_->Next();
+    WarnOfSkippedChunks();
     if (!m) return m.error();
     if (!*m) return std::optional<Frame>();
     if (stream_->channel((*m)->channel_id).topic != topic_) continue;

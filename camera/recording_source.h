@@ -64,11 +64,13 @@ class RecordingSource : public FrameSource {
   Status Rewind();
   // The next image_raw message of our channel, decoded; nullopt at the end of the file.
   Result<std::optional<Frame>> ReadNext();
+  void WarnOfSkippedChunks();  // each damaged chunk passed over, once
 
   std::string id_, path_, topic_;
   ReplayPace pace_;
   std::unique_ptr<mcap::Reader> reader_;
   std::unique_ptr<mcap::Reader::MessageStream> stream_;
+  size_t chunks_warned_ = 0;
   std::optional<Frame> pending_;  // read, not yet due
   int64_t pending_stamp_ns_ = 0;
   // Pacing: recorded stamp of the first frame of this pass, and when it was handed out.

@@ -71,6 +71,8 @@ class Directory {
   struct Entry {
     CameraStatus status;
     Clock::time_point heard;
+    std::string source;  // the participant its status came from (dds::WriterSources)
+    dds_instance_handle_t writer = 0;
   };
 
   static Result<std::unique_ptr<Directory>> Open(const std::shared_ptr<dds::Entity>& p) {
@@ -81,25 +83,36 @@ class Directory {
     auto d = std::make_unique<Directory>();
     d->reader_ = std::make_unique<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>>(
         std::move(reader).value());
+    d->sources_ = std::make_unique<dds::WriterSources>(d->reader_->reader());
     return d;
   }
 
   // Takes what has arrived, waiting up to `wait` for something; returns the live entries.
   std::vector<Entry> Update(milliseconds wait) {
     std::lock_guard<std::mutex> lock(mutex_);
-    auto taken = reader_->Take<CameraStatus>(
-        wait, [](const monocle_msgs_msg_dds__CameraStatus_& s) { return wire::FromSample(s); });
+    auto taken = reader_->Take<Entry>(
+        wait, [&](const monocle_msgs_msg_dds__CameraStatus_& s, const dds_sample_info_t& info) {
+          return Entry{wire::FromSample(s), Clock::time_point{},
+                       sources_->Of(info.publication_handle), info.publication_handle};
+        });
     const auto now = Clock::now();
     if (taken) {
-      for (auto& s : *taken) {
+      for (auto& e : *taken) {
         if (!first_heard_) first_heard_ = now;
-        const auto key = std::make_pair(s.ros_namespace, s.service);
-        entries_.insert_or_assign(key, Entry{std::move(s), now});
+        e.heard = now;
+        auto key = std::make_tuple(e.status.ros_namespace, e.status.service, e.source);
+        entries_.insert_or_assign(std::move(key), std::move(e));
       }
     }
     std::vector<Entry> live;
-    for (const auto& [key, e] : entries_) {
-      if (now - e.heard < kStatusStale) live.push_back(e);
+    for (auto it = entries_.begin(); it != entries_.end();) {
+      // A writer that has left (its participant closed) says no more: forgotten at once.
+      if (it->second.writer != 0 && !StillMatched(it->second.writer)) {
+        it = entries_.erase(it);
+        continue;
+      }
+      if (now - it->second.heard < kStatusStale) live.push_back(it->second);
+      ++it;
     }
     return live;
   }
@@ -119,27 +132,57 @@ class Directory {
     return entries_.size() >= st.current_count;
   }
 
+  // The one participant serving namespace `ns` by the statuses heard (empty: none heard yet,
+  // or several claim it).
+  std::string ServingSource(const std::string& ns) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = Clock::now();
+    std::set<std::string> sources;
+    for (const auto& [key, e] : entries_) {
+      if (e.status.ros_namespace == ns && now - e.heard < kStatusStale &&
+          (e.status.state == CameraState::kStreaming ||
+           e.status.state == CameraState::kReconnecting))
+        sources.insert(e.source);
+    }
+    return sources.size() == 1 ? *sources.begin() : "";
+  }
+
  private:
+  bool StillMatched(dds_instance_handle_t writer) const {
+    dds_builtintopic_endpoint_t* w = dds_get_matched_publication_data(reader_->reader(), writer);
+    if (w == nullptr) return false;
+    dds_builtintopic_free_endpoint(w);
+    return true;
+  }
+
   std::mutex mutex_;
   std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>> reader_;
-  std::map<std::pair<std::string, std::string>, Entry> entries_;
+  std::unique_ptr<dds::WriterSources> sources_;
+  // By (namespace, service, source): a participant claiming another's service id is its own.
+  std::map<std::tuple<std::string, std::string, std::string>, Entry> entries_;
   std::optional<Clock::time_point> first_heard_;
 };
 
-// Two services claiming one namespace, in words; empty if none.
+// Two services claiming one namespace, in words; empty if none. Two participants are two
+// services whatever service id they give (a spoofer may copy the real one's).
 std::string Clashes(const std::vector<Directory::Entry>& entries) {
-  std::map<std::string, std::set<std::string>> services;
+  std::map<std::string, std::map<std::string, std::string>> serving;  // ns -> source -> service
   for (const auto& e : entries) {
     // Stopped or failed (a newcomer that refused the namespace) serves nothing.
     if (e.status.state == CameraState::kStreaming || e.status.state == CameraState::kReconnecting)
-      services[e.status.ros_namespace].insert(e.status.service);
+      serving[e.status.ros_namespace][e.source.empty() ? e.status.service : e.source] =
+          e.status.service;
   }
   std::string out;
-  for (const auto& [ns, s] : services) {
-    if (s.size() < 2) continue;
-    out += (out.empty() ? "" : "; ") + ns + " is served by " + std::to_string(s.size()) +
+  for (const auto& [ns, by_source] : serving) {
+    if (by_source.size() < 2) continue;
+    out += (out.empty() ? "" : "; ") + ns + " is served by " + std::to_string(by_source.size()) +
            " monocled (";
-    for (auto it = s.begin(); it != s.end(); ++it) out += (it == s.begin() ? "" : ", ") + *it;
+    bool first = true;
+    for (const auto& [source, service] : by_source) {
+      out += (first ? "" : ", ") + service;
+      first = false;
+    }
     out += ")";
   }
   return out;
@@ -189,7 +232,7 @@ const char* ToString(CameraState state) {
 
 std::string DuplicateCameras(const std::vector<CameraStatus>& cameras) {
   std::vector<Directory::Entry> entries;
-  for (const auto& c : cameras) entries.push_back({c, Clock::now()});
+  for (const auto& c : cameras) entries.push_back({c, Clock::now(), "", 0});
   return Clashes(entries);
 }
 
@@ -244,9 +287,12 @@ struct Client::Impl {
       // What is known already first: a camera in the directory costs no wait.
       const auto entries = directory->Update(at_once ? milliseconds(0) : kPoll);
       std::vector<CameraStatus> named;
+      std::vector<Directory::Entry> named_entries;
       for (const auto& e : entries) {
-        if (e.status.camera_id == camera || e.status.ros_namespace == camera)
+        if (e.status.camera_id == camera || e.status.ros_namespace == camera) {
           named.push_back(e.status);
+          named_entries.push_back(e);
+        }
       }
       std::set<std::string> namespaces;
       for (const auto& s : named) namespaces.insert(s.ros_namespace);
@@ -258,9 +304,7 @@ struct Client::Impl {
                                "): name it by its namespace"};
       }
       if (named.size() > 1) {
-        std::vector<Directory::Entry> same;
-        for (const auto& s : named) same.push_back({s, Clock::now()});
-        if (const std::string clash = Clashes(same); !clash.empty()) {
+        if (const std::string clash = Clashes(named_entries); !clash.empty()) {
           return ClientError{ClientError::Code::kInvalidRequest,
                              "camera '" + Shown(camera) + "': " + clash +
                                  "; give each robot its own ros_namespace"};
@@ -337,6 +381,8 @@ struct Client::Impl {
                       std::chrono::duration_cast<milliseconds>(deadline - Clock::now()));
     };
     if (!service->WaitForService(left())) return NoService(options.domain, options.timeout, what);
+    // Replies from any other participant (a spoofer answering first) are not the camera's.
+    service->TrustOnly(directory->ServingSource(ns));
     auto reply = service->template Call<ClientResult<Out>>(request, left(), convert, resend_after);
     if (!reply) return DdsFailure(reply.error());
     if (!*reply) return NoService(options.domain, options.timeout, what);
@@ -471,12 +517,19 @@ ClientResult<std::vector<Calibration>> Client::calibrations() {
   std::map<std::string, Calibration> by_namespace;
   const auto deadline = Clock::now() + impl_->options.timeout;
   std::optional<Clock::time_point> first;
+  dds::WriterSources sources(reader->reader());
   while (Clock::now() < deadline && (!first || Clock::now() - *first < 3 * kPoll)) {
-    auto taken = reader->Take<Calibration>(
-        kPoll, [](const monocle_msgs_msg_dds__Calibration_& s) { return wire::FromSample(s); });
+    auto taken = reader->Take<std::pair<Calibration, std::string>>(
+        kPoll, [&](const monocle_msgs_msg_dds__Calibration_& s, const dds_sample_info_t& info) {
+          return std::make_pair(wire::FromSample(s), sources.Of(info.publication_handle));
+        });
     if (!taken) return DdsFailure(taken.error());
     if (!taken->empty() && !first) first = Clock::now();
-    for (auto& c : *taken) {
+    impl_->directory->Update(milliseconds(0));
+    for (auto& [c, source] : *taken) {
+      // Only the service that serves the camera speaks for its calibration.
+      const std::string serving = impl_->directory->ServingSource(c.ros_namespace);
+      if (!serving.empty() && source != serving) continue;
       auto& kept = by_namespace[c.ros_namespace];
       if (c.revision >= kept.revision) kept = std::move(c);
     }
@@ -490,6 +543,113 @@ ClientResult<std::vector<Calibration>> Client::calibrations() {
 
 ClientResult<Subscription> Client::subscribe_poses(std::function<void(const Pose&)> on_pose,
                                                    const std::string& camera) {
+  return subscribe_poses(std::move(on_pose), camera, nullptr);
+}
+
+namespace {
+
+// The corner pose readers of a subscription, one per camera namespace, each with the
+// participants its directory entries say serve it, and the poses it did not deliver.
+class PoseReaders {
+ public:
+  using Reader = dds::Endpoint<monocle_msgs_msg_dds__CornerPose_>;
+  PoseReaders(std::shared_ptr<dds::Entity> participant, std::string camera)
+      : participant_(std::move(participant)),
+        camera_(std::move(camera)),
+        waitset_(dds::WaitSet::Create(participant_)) {}
+
+  // Opens readers for new matching cameras, and learns who serves each.
+  void Follow(const std::vector<Directory::Entry>& entries) {
+    for (auto& [ns, r] : by_namespace_) r.serving.clear();
+    for (const auto& e : entries) {
+      const auto& s = e.status;
+      if (!HasRole(s, "corner")) continue;
+      if (!camera_.empty() && camera_ != s.camera_id && camera_ != s.ros_namespace) continue;
+      auto& r = by_namespace_[s.ros_namespace];
+      r.camera_id = s.camera_id;
+      if (s.state == CameraState::kStreaming || s.state == CameraState::kReconnecting)
+        r.serving[e.source] = s.service;
+      if (r.reader) continue;
+      // A deeper history than ROS's default: a briefly slow callback loses nothing.
+      auto opened =
+          Reader::Open(participant_, &monocle_msgs_msg_dds__CornerPose__desc,
+                       wire::CornerPoseTopic(s.ros_namespace).c_str(), false, true, {16, false});
+      if (!opened) continue;
+      r.reader = std::make_unique<Reader>(std::move(opened).value());
+      r.sources = std::make_unique<dds::WriterSources>(r.reader->reader());
+      if (waitset_) waitset_->Attach(r.reader->reader());
+    }
+  }
+
+  bool empty() const { return by_namespace_.empty(); }
+  void Wait(milliseconds timeout) {
+    if (waitset_) waitset_->Wait(timeout);
+  }
+
+  // Delivers what the serving participant wrote; counts the rest.
+  void Take(const std::function<void(const Pose&)>& on_pose, const std::atomic<bool>& stop) {
+    for (auto& [ns, r] : by_namespace_) {
+      if (!r.reader) continue;
+      auto taken = r.reader->Take<std::pair<Pose, dds_instance_handle_t>>(
+          milliseconds(0), [](const auto& s, const dds_sample_info_t& info) {
+            return std::make_pair(wire::FromSample(s), info.publication_handle);
+          });
+      if (!taken) continue;
+      for (const auto& [pose, writer] : *taken) {
+        const std::string& source = r.sources->Of(writer);
+        if (r.serving.size() != 1 || r.serving.begin()->first != source) {
+          ++r.ignored;
+          continue;
+        }
+        if (!stop) on_pose(pose);
+      }
+    }
+  }
+
+  // What was not delivered since the last report, camera by camera.
+  void Report(const std::function<void(const std::string&)>& on_ignored) {
+    for (auto& [ns, r] : by_namespace_) {
+      if (r.ignored == 0) continue;
+      std::string why;
+      if (r.serving.size() > 1) {
+        why = "it is claimed by " + std::to_string(r.serving.size()) + " services (";
+        bool first = true;
+        for (const auto& [source, service] : r.serving) {
+          why += (first ? "" : ", ") + service;
+          first = false;
+        }
+        why += ") and none of them can be trusted until only one is left";
+      } else {
+        why =
+            "they came from a participant that does not serve it (spoofed, or another "
+            "service misconfigured; on a network you do not control, use DDS Security)";
+      }
+      if (on_ignored)
+        on_ignored("camera '" + r.camera_id + "' (" + ns + "): " + std::to_string(r.ignored) +
+                   " corner poses not delivered: " + why);
+      r.ignored = 0;
+    }
+  }
+
+ private:
+  struct PerCamera {
+    std::string camera_id;
+    std::unique_ptr<Reader> reader;
+    std::unique_ptr<dds::WriterSources> sources;
+    std::map<std::string, std::string> serving;  // source -> service id
+    uint64_t ignored = 0;
+  };
+  std::shared_ptr<dds::Entity> participant_;
+  std::string camera_;
+  Result<dds::WaitSet> waitset_;
+  std::map<std::string, PerCamera> by_namespace_;
+};
+
+}  // namespace
+
+ClientResult<Subscription> Client::subscribe_poses(
+    std::function<void(const Pose&)> on_pose, const std::string& camera,
+    std::function<void(const std::string&)> on_ignored) {
   // Poses travel on each corner camera's own topic: follow the directory and open a reader
   // for every matching camera as it appears (before or after the service starts).
   auto directory = Directory::Open(impl_->participant);
@@ -499,36 +659,20 @@ ClientResult<Subscription> Client::subscribe_poses(std::function<void(const Pose
   auto* state = sub.state_.get();
   state->thread = std::thread([state, participant = impl_->participant, camera,
                                directory = std::shared_ptr<Directory>(std::move(directory).value()),
-                               on_pose = std::move(on_pose)] {
-    using Reader = dds::Endpoint<monocle_msgs_msg_dds__CornerPose_>;
-    std::map<std::string, std::unique_ptr<Reader>> readers;  // by namespace
-    auto waitset = dds::WaitSet::Create(participant);
+                               on_pose = std::move(on_pose), on_ignored = std::move(on_ignored)] {
+    PoseReaders readers(participant, camera);
     auto last_lookup = Clock::now() - kPoll * 10;
+    auto last_report = Clock::now();
     while (!state->stop) {
       if (Clock::now() - last_lookup > 5 * kPoll) {
         last_lookup = Clock::now();
-        for (const auto& e : directory->Update(milliseconds(0))) {
-          const auto& s = e.status;
-          if (!HasRole(s, "corner") || readers.count(s.ros_namespace) != 0) continue;
-          if (!camera.empty() && camera != s.camera_id && camera != s.ros_namespace) continue;
-          // A deeper history than ROS's default: a briefly slow callback loses nothing.
-          auto r = Reader::Open(participant, &monocle_msgs_msg_dds__CornerPose__desc,
-                                wire::CornerPoseTopic(s.ros_namespace).c_str(), false, true,
-                                {16, false});
-          if (!r) continue;
-          auto reader = std::make_unique<Reader>(std::move(r).value());
-          if (waitset) waitset->Attach(reader->reader());
-          readers[s.ros_namespace] = std::move(reader);
-        }
+        readers.Follow(directory->Update(milliseconds(0)));
       }
-      if (waitset) waitset->Wait(kPoll);
-      for (auto& [ns, reader] : readers) {
-        auto taken =
-            reader->Take<Pose>(milliseconds(0), [](const auto& s) { return wire::FromSample(s); });
-        if (!taken) continue;
-        for (const auto& p : *taken) {
-          if (!state->stop) on_pose(p);
-        }
+      readers.Wait(kPoll);
+      readers.Take(on_pose, state->stop);
+      if (Clock::now() - last_report > std::chrono::seconds(1)) {
+        last_report = Clock::now();
+        readers.Report(on_ignored);
       }
       if (readers.empty()) std::this_thread::sleep_for(kPoll);
     }

@@ -131,7 +131,10 @@ int LocateLive(const LocateArgs& a) {
         queue.push_back(p);
         arrived.notify_one();
       },
-      camera);
+      camera,
+      [](const std::string& ignored) {
+        std::cerr << "monocle: warning: " << ignored << std::endl;
+      });
   if (!subscription) return Fail(subscription.error());
   int printed = 0;
   while (follow || printed < a.count) {

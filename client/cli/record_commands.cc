@@ -8,6 +8,7 @@
 #include <ctime>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -257,82 +258,148 @@ int RecordCommand(const std::vector<std::string>& argv) {
   return kExitOk;
 }
 
+namespace {
+
+// A JSON string: quotes, backslashes and control characters escaped.
+std::string Quoted(const std::string& text) {
+  std::ostringstream out;
+  out << '"';
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out << '\\' << c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int{c} << std::dec;
+    } else {
+      out << c;
+    }
+  }
+  out << '"';
+  return out.str();
+}
+
+// What `info` says of one recording.
+struct RecordingInfo {
+  std::string path;
+  const mcap::Summary* summary = nullptr;
+  std::set<std::string> cameras;          // the namespaces of per-camera topics
+  std::optional<mcap::ChunkCheck> check;  // --check
+
+  uint64_t CountOf(uint16_t channel) const {
+    const auto it = summary->channel_message_counts.find(channel);
+    return it == summary->channel_message_counts.end() ? uint64_t{0} : it->second;
+  }
+  std::string SchemaOf(uint16_t schema) const {
+    const auto it = summary->schemas.find(schema);
+    return it == summary->schemas.end() ? "" : it->second.name;
+  }
+};
+
+std::set<std::string> CamerasOf(const mcap::Summary& s) {
+  std::set<std::string> cameras;
+  for (const auto& [id, ch] : s.channels) {
+    for (const std::string leaf : {"/corner_pose", "/camera_info"}) {
+      if (ch.topic.size() > leaf.size() && ch.topic.ends_with(leaf))
+        cameras.insert(ch.topic.substr(0, ch.topic.size() - leaf.size()));
+    }
+  }
+  return cameras;
+}
+
+void PrintInfoJson(const RecordingInfo& info) {
+  const mcap::Summary& s = *info.summary;
+  std::ostringstream j;
+  j << "{\"file\":" << Quoted(info.path) << ",\"bytes\":" << s.file_bytes
+    << ",\"profile\":" << Quoted(s.profile) << ",\"library\":" << Quoted(s.library)
+    << ",\"messages\":" << s.message_count << ",\"chunks\":" << s.chunk_count
+    << ",\"start_ns\":" << s.start_time_ns << ",\"end_ns\":" << s.end_time_ns
+    << ",\"from_index\":" << (s.from_index ? "true" : "false")
+    << ",\"recovered\":" << (s.recovered ? "true" : "false") << ",\"cameras\":[";
+  bool first = true;
+  for (const std::string& c : info.cameras) {
+    j << (first ? "" : ",") << Quoted(c);
+    first = false;
+  }
+  j << "],\"topics\":[";
+  first = true;
+  for (const auto& [id, ch] : s.channels) {
+    j << (first ? "" : ",") << "{\"topic\":" << Quoted(ch.topic)
+      << ",\"type\":" << Quoted(info.SchemaOf(ch.schema_id)) << ",\"messages\":" << info.CountOf(id)
+      << "}";
+    first = false;
+  }
+  j << "]";
+  if (info.check) {
+    j << ",\"check\":{\"intact\":" << info.check->intact << ",\"damaged\":[";
+    first = true;
+    for (const mcap::DamagedChunk& d : info.check->damaged) {
+      j << (first ? "" : ",") << "{\"offset\":" << d.offset << ",\"why\":" << Quoted(d.why) << "}";
+      first = false;
+    }
+    j << "]}";
+  }
+  std::cout << j.str() << "}\n";
+}
+
+void PrintInfoText(const RecordingInfo& info) {
+  const mcap::Summary& s = *info.summary;
+  std::cout << "file:      " << info.path << " (" << Megabytes(s.file_bytes) << ", "
+            << s.chunk_count << " chunks, written by " << s.library << ")\n";
+  if (s.recovered) std::cout << "recovered: " << s.recovery_note << "\n";
+  if (s.message_count > 0) {
+    std::cout << "start:     " << UtcTime(s.start_time_ns)
+              << "\nend:       " << UtcTime(s.end_time_ns) << "\nduration:  " << std::fixed
+              << std::setprecision(3) << static_cast<double>(s.end_time_ns - s.start_time_ns) / 1e9
+              << " s\n";
+  }
+  std::cout << "messages:  " << s.message_count << "\ncameras:  ";
+  for (const std::string& c : info.cameras) std::cout << " " << c;
+  std::cout << (info.cameras.empty() ? " none\n" : "\n") << "topics:\n";
+  for (const auto& [id, ch] : s.channels) {
+    std::cout << "  " << std::left << std::setw(44) << ch.topic << std::setw(46)
+              << info.SchemaOf(ch.schema_id) << std::right << std::setw(8) << info.CountOf(id)
+              << "\n";
+  }
+  if (!info.check) return;
+  if (info.check->damaged.empty()) {
+    std::cout << "check:     all " << info.check->intact << " chunks read, intact\n";
+    return;
+  }
+  std::cout << "check:     " << info.check->damaged.size() << " damaged chunk(s), "
+            << info.check->intact << " intact (replay skips the damaged ones):\n";
+  for (const mcap::DamagedChunk& d : info.check->damaged)
+    std::cout << "  at byte " << d.offset << ": " << d.why << "\n";
+}
+
+}  // namespace
+
 int InfoCommand(const std::vector<std::string>& argv) {
   std::vector<std::string> file;
-  bool json = false;
+  bool json = false, check = false;
   CommandLine line("info",
                    "What a recording holds: its time span, cameras, and per topic the message type "
                    "and count. A\nclosed file is summarised from its index without reading the "
                    "messages; a file cut short\n(recorder killed, disk full) is scanned, and what "
                    "was kept is said.");
   line.Positionals("FILE.mcap", &file, "the recording", 1, 1);
-  line.Flag("--json", &json, "print one JSON object");
+  line.Flag("--check", &check,
+            "read every chunk too (decompress, CRC, records) and name the damaged ones; exit "
+            "status 1 if any is");
+  line.Flag("--json", &json, "print one JSON object (with --check: check {intact, damaged[]})");
   if (const auto exit_now = line.Parse(argv)) return *exit_now;
-  const std::string& path = file[0];
-  auto reader = mcap::Reader::Open(path);
+  auto reader = mcap::Reader::Open(file[0]);
   if (!reader) return Fail(reader.error(), kExitFailure);
-  const mcap::Summary& s = reader->summary();
-  // Cameras: the namespaces of per-camera topics.
-  std::set<std::string> cameras;
-  for (const auto& [id, ch] : s.channels) {
-    for (const char* leaf : {"/corner_pose", "/camera_info"}) {
-      const std::string l(leaf);
-      if (ch.topic.size() > l.size() && ch.topic.ends_with(l)) {
-        cameras.insert(ch.topic.substr(0, ch.topic.size() - l.size()));
-      }
-    }
+  RecordingInfo info{file[0], &reader->summary(), CamerasOf(reader->summary()), std::nullopt};
+  if (check) {
+    auto checked = reader->CheckChunks();
+    if (!checked) return Fail(checked.error(), kExitFailure);
+    info.check = std::move(checked).value();
   }
-  auto count_of = [&](uint16_t id) {
-    const auto it = s.channel_message_counts.find(id);
-    return it == s.channel_message_counts.end() ? uint64_t{0} : it->second;
-  };
-  auto schema_of = [&](uint16_t id) -> std::string {
-    const auto it = s.schemas.find(id);
-    return it == s.schemas.end() ? "" : it->second.name;
-  };
-  const double duration_s =
-      s.message_count > 0 ? static_cast<double>(s.end_time_ns - s.start_time_ns) / 1e9 : 0;
   if (json) {
-    std::ostringstream j;
-    j << "{\"file\":\"" << path << "\",\"bytes\":" << s.file_bytes << ",\"profile\":\"" << s.profile
-      << "\",\"library\":\"" << s.library << "\",\"messages\":" << s.message_count
-      << ",\"chunks\":" << s.chunk_count << ",\"start_ns\":" << s.start_time_ns
-      << ",\"end_ns\":" << s.end_time_ns << ",\"from_index\":" << (s.from_index ? "true" : "false")
-      << ",\"recovered\":" << (s.recovered ? "true" : "false") << ",\"cameras\":[";
-    bool first = true;
-    for (const std::string& c : cameras) {
-      j << (first ? "" : ",") << "\"" << c << "\"";
-      first = false;
-    }
-    j << "],\"topics\":[";
-    first = true;
-    for (const auto& [id, ch] : s.channels) {
-      j << (first ? "" : ",") << "{\"topic\":\"" << ch.topic << "\",\"type\":\""
-        << schema_of(ch.schema_id) << "\",\"messages\":" << count_of(id) << "}";
-      first = false;
-    }
-    j << "]}";
-    std::cout << j.str() << "\n";
-    return kExitOk;
+    PrintInfoJson(info);
+  } else {
+    PrintInfoText(info);
   }
-  std::cout << "file:      " << path << " (" << Megabytes(s.file_bytes) << ", " << s.chunk_count
-            << " chunks, written by " << s.library << ")\n";
-  if (s.recovered) {
-    std::cout << "recovered: " << s.recovery_note << "\n";
-  }
-  if (s.message_count > 0) {
-    std::cout << "start:     " << UtcTime(s.start_time_ns)
-              << "\nend:       " << UtcTime(s.end_time_ns) << "\nduration:  " << std::fixed
-              << std::setprecision(3) << duration_s << " s\n";
-  }
-  std::cout << "messages:  " << s.message_count << "\ncameras:  ";
-  for (const std::string& c : cameras) std::cout << " " << c;
-  std::cout << (cameras.empty() ? " none\n" : "\n") << "topics:\n";
-  for (const auto& [id, ch] : s.channels) {
-    std::cout << "  " << std::left << std::setw(44) << ch.topic << std::setw(46)
-              << schema_of(ch.schema_id) << std::right << std::setw(8) << count_of(id) << "\n";
-  }
-  return kExitOk;
+  return info.check && !info.check->damaged.empty() ? kExitFailure : kExitOk;
 }
 
 }  // namespace monocle::cli

@@ -5,6 +5,7 @@
 #include <dds/dds.h>
 
 #include <chrono>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -207,6 +208,37 @@ class Endpoint {
   // Declared first so it is deleted last (deleting it deletes its children too).
   std::shared_ptr<Entity> participant_;
   Entity writer_, reader_, waitset_;
+};
+
+// Which participant wrote a sample a reader took: the participant of the matched writer its
+// publication handle names, as 32 hex digits (its GUID), remembered per handle; empty when the
+// writer is no longer matched. For one reader; not thread-safe.
+class WriterSources {
+ public:
+  explicit WriterSources(dds_entity_t reader) : reader_(reader) {}
+  const std::string& Of(dds_instance_handle_t publication) {
+    if (const auto it = known_.find(publication); it != known_.end()) return it->second;
+    std::string guid;
+    if (dds_builtintopic_endpoint_t* w = dds_get_matched_publication_data(reader_, publication)) {
+      static const char kHex[] = "0123456789abcdef";
+      for (const uint8_t b : w->participant_key.v) {
+        guid += kHex[b >> 4];
+        guid += kHex[b & 15];
+      }
+      dds_builtintopic_free_endpoint(w);
+    }
+    if (known_.size() > 4096) known_.clear();  // bounded; learnt again when needed
+    if (guid.empty()) {
+      empty_.clear();
+      return empty_;  // not remembered: it may match later
+    }
+    return known_[publication] = guid;
+  }
+
+ private:
+  dds_entity_t reader_;
+  std::map<dds_instance_handle_t, std::string> known_;
+  std::string empty_;
 };
 
 // Calls `on_data(reader, arg)` on Cyclone's receive thread whenever samples arrive at

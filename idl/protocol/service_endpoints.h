@@ -169,6 +169,11 @@ class ServiceClient {
 
   uint64_t guid() const { return guid_->load(); }
 
+  // Takes replies only from this participant (dds::WriterSources; empty: from any).
+  void TrustOnly(std::string participant) { trusted_ = std::move(participant); }
+  // Replies to our requests from another participant, dropped, so far.
+  uint64_t foreign_replies() const { return foreign_replies_; }
+
   // Sends `request` (its header is set here) and waits up to `timeout` for its reply, which
   // `convert(reply)` turns into the result; nullopt if none came. Replies to other clients,
   // and late replies to our earlier requests, are dropped.
@@ -201,8 +206,12 @@ class ServiceClient {
           std::chrono::milliseconds(1);
       auto taken = replies_.template Take<std::optional<Out>>(
           std::min({left, until_resend, std::chrono::milliseconds(100)}),
-          [&](const Reply& r) -> std::optional<Out> {
+          [&](const Reply& r, const dds_sample_info_t& info) -> std::optional<Out> {
             if (r.guid != guid() || r.seq != request.seq) return std::nullopt;
+            if (!trusted_.empty() && sources_->Of(info.publication_handle) != trusted_) {
+              ++foreign_replies_;
+              return std::nullopt;
+            }
             return convert(r);
           });
       if (!taken) return taken.error();
@@ -215,7 +224,10 @@ class ServiceClient {
  private:
   ServiceClient(Endpoint<Request> requests, Endpoint<Reply> replies,
                 std::unique_ptr<std::atomic<uint64_t>> guid)
-      : guid_(std::move(guid)), requests_(std::move(requests)), replies_(std::move(replies)) {}
+      : guid_(std::move(guid)),
+        requests_(std::move(requests)),
+        replies_(std::move(replies)),
+        sources_(std::make_unique<WriterSources>(replies_.reader())) {}
 
   // The reply reader's filter (Cyclone's receive thread) reads our client id.
   static bool IsOurs(const void* reply, void* guid) {
@@ -227,6 +239,9 @@ class ServiceClient {
   std::unique_ptr<std::atomic<uint64_t>> guid_;
   Endpoint<Request> requests_;
   Endpoint<Reply> replies_;
+  std::unique_ptr<WriterSources> sources_;  // of the replies
+  std::string trusted_;
+  uint64_t foreign_replies_ = 0;
   int64_t seq_ = 0;
 };
 

@@ -3,13 +3,9 @@
 #include "service/io/bounded_file.h"
 #include "service/io/text_proto.h"
 
-#include <fcntl.h>
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -247,41 +243,6 @@ std::string FormatCalibration(const CameraCalibration& c) {
   std::string text;
   printer.PrintToString(msg, &text);
   return "# monocle camera calibration (idl/calibration.proto). Metres, radians, pixels.\n" + text;
-}
-
-Status WriteFileAtomically(const std::string& path, const std::string& contents) {
-  const std::filesystem::path target(path);
-  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-  std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
-  const int fd = mkstemp(tmp.data());
-  if (fd < 0) {
-    return MakeError(ErrorCode::kIo, "cannot create a temporary file next to '" + path +
-                                         "': " + std::strerror(errno));
-  }
-  size_t written = 0;
-  while (written < contents.size()) {
-    const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const std::string why = std::strerror(errno);
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      return MakeError(ErrorCode::kIo, "cannot write '" + path + "': " + why);
-    }
-    written += static_cast<size_t>(n);
-  }
-  fchmod(fd, 0644);
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    const std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    return MakeError(ErrorCode::kIo, "cannot flush '" + path + "': " + why);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    return MakeError(ErrorCode::kIo, "cannot replace '" + path + "': " + why);
-  }
-  return Ok{};
 }
 
 Status SaveCalibrationFileAtomically(const std::string& path, const CameraCalibration& c) {

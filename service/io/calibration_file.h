@@ -7,6 +7,7 @@
 
 #include "idl/calibration.pb.h"
 #include "service/common/result.h"
+#include "service/io/atomic_file.h"  // WriteFileAtomically, for every text file
 #include "service/geometry/camera_model.h"
 #include "service/geometry/floor_calibration.h"
 
@@ -31,11 +32,8 @@ Result<CameraCalibration> LoadCalibrationFile(const std::string& path);
 
 std::string FormatCalibration(const CameraCalibration& calibration);
 
-// Writes to a temporary file in the same directory, flushes it to disk and renames it over
-// `path`, so readers see either the old or the new file, never a partial one.
+// Replaces `path` whole (atomic_file.h): readers see either the old or the new file, never a
+// partial one, and a write that was killed leaves no temporary behind for good.
 Status SaveCalibrationFileAtomically(const std::string& path, const CameraCalibration& calibration);
-
-// Writes any text file atomically (same procedure).
-Status WriteFileAtomically(const std::string& path, const std::string& contents);
 
 }  // namespace monocle

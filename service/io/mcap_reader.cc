@@ -256,7 +256,7 @@ Result<std::string> Reader::ChunkRecords(std::string_view chunk_content, uint64_
     const size_t n = ZSTD_decompress(out.data(), out.size(), records.data(), records.size());
     if (ZSTD_isError(n) || n != uncompressed_size) return Malformed(offset, "corrupt zstd chunk");
   } else {
-    return MakeError(ErrorCode::kInvalidArgument,
+    return MakeError(ErrorCode::kOutOfRange,  // not damaged: not to be skipped as damaged
                      path_ + ": chunks compressed with '" + compression +
                          "' are not supported (monocle reads uncompressed and zstd chunks)");
   }
@@ -265,8 +265,15 @@ Result<std::string> Reader::ChunkRecords(std::string_view chunk_content, uint64_
   return out;
 }
 
-Reader::MessageStream::MessageStream(Reader* reader)
-    : reader_(reader), offset_(reader->data_start_) {}
+Reader::MessageStream::MessageStream(Reader* reader, bool skip_damaged_chunks)
+    : reader_(reader), offset_(reader->data_start_), skip_damaged_(skip_damaged_chunks) {
+  // A damaged chunk may hold the schemas and channels later chunks use: a closed file's
+  // summary has them all.
+  if (skip_damaged_ && reader->summary_.from_index) {
+    schemas_ = reader->summary_.schemas;
+    channels_ = reader->summary_.channels;
+  }
+}
 
 bool Reader::MessageStream::Handle(uint8_t op, std::string_view content,
                                    std::optional<Message>* message) {
@@ -301,7 +308,10 @@ Result<std::optional<Message>> Reader::MessageStream::Next() {
       const std::string_view content = c.Take(c.U64());
       std::optional<Message> message;
       if (!c.ok() || !Handle(op, content, &message)) {
-        return r.Malformed(chunk_offset_, "a record inside the chunk");
+        if (!skip_damaged_) return r.Malformed(chunk_offset_, "a record inside the chunk");
+        skipped_.push_back({chunk_offset_, "a damaged record inside it; its rest skipped"});
+        in_chunk_ = false;
+        continue;
       }
       chunk_position_ += c.position();
       if (message) return message;
@@ -339,6 +349,11 @@ Result<std::optional<Message>> Reader::MessageStream::Next() {
       auto content = r.ReadAt(content_at, len);
       if (!content) return content.error();
       auto records = r.ChunkRecords(*content, record_at);
+      if (!records && skip_damaged_ && records.error().code == ErrorCode::kInvalidArgument) {
+        skipped_.push_back({record_at, records.error().message});
+        offset_ = content_at + len;
+        continue;
+      }
       if (!records) {
         if (!r.summary_.recovered) return records.error();
         return broken("a damaged chunk");
@@ -368,7 +383,7 @@ Result<std::optional<Message>> Reader::MessageStream::Next() {
 }
 
 Status Reader::ScanForSummary() {
-  MessageStream stream(this);
+  MessageStream stream(this, /*skip_damaged_chunks=*/false);
   while (true) {
     auto m = stream.Next();
     if (!m) return m.error();
@@ -388,9 +403,23 @@ Status Reader::ScanForSummary() {
   return Ok{};
 }
 
+Result<ChunkCheck> Reader::CheckChunks() {
+  MessageStream stream(this, /*skip_damaged_chunks=*/true);
+  while (true) {
+    auto m = stream.Next();
+    if (!m) return m.error();
+    if (!*m) break;
+  }
+  ChunkCheck out;
+  out.damaged = stream.skipped();
+  out.intact = stream.complete_chunks();
+  out.stopped_early = stream.stopped_early();
+  return out;
+}
+
 Status Reader::ForEachMessage(
     const std::function<bool(const ChannelInfo&, const Message&)>& visit) {
-  MessageStream stream(this);
+  MessageStream stream(this, /*skip_damaged_chunks=*/false);
   while (true) {
     auto m = stream.Next();
     if (!m) return m.error();

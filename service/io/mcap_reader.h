@@ -47,6 +47,20 @@ struct Summary {
   std::string recovery_note;
 };
 
+// A chunk that could not be read (a flipped byte, a broken compression) and why.
+struct DamagedChunk {
+  uint64_t offset = 0;  // of its record in the file
+  std::string why;
+};
+
+// Every chunk read: how many were intact, which were damaged, and for a cut-short file where
+// its walk ended.
+struct ChunkCheck {
+  uint64_t intact = 0;
+  std::vector<DamagedChunk> damaged;
+  std::string stopped_early;
+};
+
 struct Message {
   uint16_t channel_id = 0;
   uint32_t sequence = 0;
@@ -70,9 +84,16 @@ class Reader {
   // cut-short file are visited.
   Status ForEachMessage(const std::function<bool(const ChannelInfo&, const Message&)>& visit);
 
+  // Reads and checks every chunk (decompressed, its CRC, its records), going on past damaged
+  // ones. An error only for what no reader gets past (the file unreadable, an unsupported
+  // compression).
+  Result<ChunkCheck> CheckChunks();
+
   // The messages in file order, one at a time, for a reader that pulls (a replayed camera):
   // one chunk is held decompressed at a time. The Reader must outlive the stream and stay
-  // where it is (not be moved) while the stream is used.
+  // where it is (not be moved) while the stream is used. With `skip_damaged_chunks`, a chunk
+  // that cannot be read is passed over (and listed in skipped()) instead of ending the walk
+  // with an error.
   class MessageStream {
    public:
     // The next message, nullopt at the end (of the data section, or of the complete chunks of
@@ -85,10 +106,12 @@ class Reader {
     uint64_t complete_chunks() const { return complete_chunks_; }
     // Why a cut-short file's walk ended before the end of its data ("" if it did not).
     const std::string& stopped_early() const { return stopped_early_; }
+    // The damaged chunks passed over so far (skip_damaged_chunks only).
+    const std::vector<DamagedChunk>& skipped() const { return skipped_; }
 
    private:
     friend class Reader;
-    explicit MessageStream(Reader* reader);
+    MessageStream(Reader* reader, bool skip_damaged_chunks);
     // A schema, channel or message record; false: malformed.
     bool Handle(uint8_t op, std::string_view content, std::optional<Message>* message);
 
@@ -103,8 +126,12 @@ class Reader {
     std::map<uint16_t, ChannelInfo> channels_;  // as met in the data section
     uint64_t complete_chunks_ = 0;
     std::string stopped_early_;
+    bool skip_damaged_ = false;
+    std::vector<DamagedChunk> skipped_;
   };
-  MessageStream Messages() { return MessageStream(this); }
+  MessageStream Messages(bool skip_damaged_chunks = false) {
+    return MessageStream(this, skip_damaged_chunks);
+  }
 
   // How many chunks were decompressed or scanned so far (0 after Open of a complete file).
   uint64_t chunks_read() const { return chunks_read_; }

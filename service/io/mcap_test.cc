@@ -184,6 +184,29 @@ TEST(McapErrors, DamagedFilesAreRefusedWithTheByteNamed) {
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.error().message.find("CRC"), std::string::npos) << s.error().message;
   EXPECT_NE(s.error().message.find("at byte"), std::string::npos) << s.error().message;
+  // Checked, the damaged chunk is named and the others read; a stream that skips damaged
+  // chunks gives every message of the others, in order.
+  const auto check = damaged->CheckChunks();
+  ASSERT_TRUE(check.ok()) << check.error();
+  ASSERT_EQ(check->damaged.size(), 1u);
+  EXPECT_LT(check->damaged[0].offset, 200u) << "the chunk holding byte 200";
+  EXPECT_NE(check->damaged[0].why.find("CRC"), std::string::npos) << check->damaged[0].why;
+  EXPECT_EQ(check->intact + 1, damaged->summary().chunk_count);
+  auto stream = damaged->Messages(/*skip_damaged_chunks=*/true);
+  uint64_t read = 0;
+  uint32_t last_sequence = 0;
+  while (true) {
+    auto m = stream.Next();
+    ASSERT_TRUE(m.ok()) << m.error();
+    if (!*m) break;
+    EXPECT_GT((*m)->sequence, last_sequence);
+    last_sequence = (*m)->sequence;
+    ++read;
+  }
+  EXPECT_EQ(stream.skipped().size(), 1u);
+  EXPECT_GT(read, 0u);
+  EXPECT_LT(read, 300u) << "the damaged chunk's messages are missing";
+  EXPECT_EQ(last_sequence, 299u) << "and the ones after it are read";
 
   // A directory, a missing file.
   EXPECT_FALSE(Reader::Open(std::filesystem::temp_directory_path().string()).ok());

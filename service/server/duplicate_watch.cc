@@ -50,7 +50,7 @@ std::map<std::string, std::string> DuplicateWatch::WaitForServed(
   for (const auto& [key, state] : latest) {
     if (!Serving(state)) continue;
     served[key.first] = key.second;
-    reported_.insert(key);  // the refusal says it; NewClashes need not say it again
+    reported_.emplace(key, 0);  // the refusal says it; NewClashes need not say it again
   }
   return served;
 }
@@ -58,15 +58,17 @@ std::map<std::string, std::string> DuplicateWatch::WaitForServed(
 std::vector<DuplicateWatch::Clash> DuplicateWatch::NewClashes() {
   std::vector<Clash> out;
   for (;;) {
-    auto taken = statuses_->Take<CameraStatus>(
+    auto taken = statuses_->Take<std::pair<CameraStatus, dds_instance_handle_t>>(
         std::chrono::milliseconds(0),
-        [](const monocle_msgs_msg_dds__CameraStatus_& s) { return wire::FromSample(s); });
+        [](const monocle_msgs_msg_dds__CameraStatus_& s, const dds_sample_info_t& info) {
+          return std::make_pair(wire::FromSample(s), info.publication_handle);
+        });
     if (!taken || taken->empty()) return out;
-    for (const auto& s : *taken) {
+    for (const auto& [s, writer] : *taken) {
       if (s.service == own_ || namespaces_.count(s.ros_namespace) == 0 ||
           s.state == CameraState::kStopped)
         continue;
-      if (!reported_.insert({s.ros_namespace, s.service}).second) continue;
+      if (!reported_.emplace(std::make_pair(s.ros_namespace, s.service), writer).second) continue;
       if (s.state == CameraState::kFailed) {
         // The newcomer refused it (or failed on its own): we keep serving; say who tried.
         out.push_back({s.ros_namespace, "monocled " + s.service + " also claims camera namespace " +
@@ -82,6 +84,27 @@ std::vector<DuplicateWatch::Clash> DuplicateWatch::NewClashes() {
                                 "(see service/README.md, \"Several robots on one domain\")"});
     }
   }
+}
+
+std::vector<std::string> DuplicateWatch::ClashesOver() {
+  std::set<std::string> left, staying;
+  for (auto it = reported_.begin(); it != reported_.end();) {
+    const auto& [key, writer] = *it;
+    dds_builtintopic_endpoint_t* still =
+        writer != 0 ? dds_get_matched_publication_data(statuses_->reader(), writer) : nullptr;
+    if (still != nullptr) dds_builtintopic_free_endpoint(still);
+    if (writer != 0 && still == nullptr) {
+      left.insert(key.first);
+      it = reported_.erase(it);  // heard again, it is reported again
+    } else {
+      staying.insert(key.first);
+      ++it;
+    }
+  }
+  std::vector<std::string> out;
+  for (const std::string& ns : left)
+    if (staying.count(ns) == 0) out.push_back(ns);
+  return out;
 }
 
 }  // namespace monocle

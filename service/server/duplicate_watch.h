@@ -42,12 +42,16 @@ class DuplicateWatch {
   // Statuses received since the last call; one Clash for each newly seen other service on
   // one of our namespaces (serving it, or having refused it because we serve it).
   std::vector<Clash> NewClashes();
+  // Our namespaces whose every other claimant reported by NewClashes has left the domain (its
+  // status writer is gone) since the last call: their clash is over.
+  std::vector<std::string> ClashesOver();
 
  private:
   DuplicateWatch() = default;
   std::string own_;
   std::set<std::string> namespaces_;
-  std::set<std::pair<std::string, std::string>> reported_;  // (namespace, other service)
+  // (namespace, other service) reported, and the status writer it was heard from.
+  std::map<std::pair<std::string, std::string>, dds_instance_handle_t> reported_;
   std::unique_ptr<dds::Endpoint<monocle_msgs_msg_dds__CameraStatus_>> statuses_;
 };
 

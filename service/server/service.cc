@@ -33,6 +33,11 @@ Result<std::unique_ptr<Service>> Service::Start(
   std::map<std::string, CameraCalibration> loaded;
   for (const auto& cam : s->setup_.cameras) {
     if (stop_requested()) return cancelled;
+    // A floor calibration killed half-way left its temporary: gone before we write again.
+    if (const int stale = RemoveStaleTemporaries(cam.calibration_path); stale > 0) {
+      std::cerr << "monocled: removed " << stale << " stale temporary file(s) next to "
+                << cam.calibration_path << " (a write that was killed)\n";
+    }
     auto cal = LoadCalibrationFile(cam.calibration_path);
     if (!cal) return MakeError(cal.error().code, "camera '" + cam.id + "': " + cal.error().message);
     if (cam.corner() && !cam.ceiling_distance_m && !cal->ceiling_distance_m) {
@@ -157,6 +162,12 @@ void Service::PublishStatus() {
     std::cerr << "monocled: " << clash.message << "\n";
     std::lock_guard<std::mutex> lock(notes_mutex_);
     notes_[clash.ros_namespace] = {std::move(clash.message), UnixNowNs()};
+  }
+  for (const std::string& ns : duplicates_->ClashesOver()) {
+    std::cerr << "monocled: camera namespace " << ns
+              << " is ours alone again: the other service claiming it has left\n";
+    std::lock_guard<std::mutex> lock(notes_mutex_);
+    notes_.erase(ns);
   }
   std::vector<std::pair<const CameraSetup*, WorkerStatus>> statuses;
   for (auto& w : workers_) statuses.emplace_back(&w->setup(), PublishStatusOf(*w, true));

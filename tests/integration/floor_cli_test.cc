@@ -84,6 +84,8 @@ TEST_F(FloorCliTest, AHeightInMillimetresIsNamed) {
 }
 
 TEST_F(FloorCliTest, CalibrateWritesTheFileAndMeasureReadsIt) {
+  // What an earlier write killed half-way (SIGKILL) left: its temporary goes with this write.
+  std::ofstream(dir_ / ".cal.pbtxt.Q1w2E3") << "intrinsics {";
   const auto cal =
       RunMonocle(dir_, "floor calibrate " + dir_ / "board.png" + " --calibration " +
                            dir_ / "cal.pbtxt" + " --board 11x8 --square 0.05 --write --json");
@@ -97,6 +99,7 @@ TEST_F(FloorCliTest, CalibrateWritesTheFileAndMeasureReadsIt) {
   EXPECT_GT(out.sigma().height(), 0);
   EXPECT_LT(out.rms_px(), 0.2);
   EXPECT_EQ(out.method(), "full");
+  EXPECT_FALSE(std::filesystem::exists(dir_ / ".cal.pbtxt.Q1w2E3")) << "a killed write's temporary";
   const auto written = LoadCalibrationFile(dir_ / "cal.pbtxt");
   ASSERT_TRUE(written.ok()) << written.error();
   ASSERT_TRUE(written->floor.has_value());

@@ -4,6 +4,8 @@
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -38,6 +40,8 @@ class ServiceCommandsTest : public testing::ServiceTest {
     CameraCalibration corner;
     corner.intrinsics = SimIntrinsics(1280, 1024);
     ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "corner.pbtxt", corner).ok());
+    // What a floor calibration killed half-way (SIGKILL) left: removed when the service starts.
+    std::ofstream(dir_ / ".floor.pbtxt.Q1w2E3") << "intrinsics {";
     ASSERT_NO_FATAL_FAILURE(StartService(kDomain, R"(
 status_period_s: 0.25
 camera { id: "floor" device: "sim-floor" role: FLOOR calibration: "floor.pbtxt" }
@@ -63,6 +67,11 @@ TEST_F(ServiceCommandsTest, FloorCalibrationWritesTheFileAndPublishesIt) {
   EXPECT_EQ(out.camera(), "floor");
   EXPECT_EQ(out.revision(), 2u);
   EXPECT_EQ(out.written(), dir_ / "floor.pbtxt");
+  EXPECT_FALSE(std::filesystem::exists(dir_ / ".floor.pbtxt.Q1w2E3"));
+  EXPECT_NE(testing::ReadFile(dir_ / "monocled.log")
+                .find("removed 1 stale temporary file(s) next to " + dir_ / "floor.pbtxt"),
+            std::string::npos)
+      << testing::ReadFile(dir_ / "monocled.log");
 
   // Stored: the file now holds the new floor section.
   const auto stored = LoadCalibrationFile(dir_ / "floor.pbtxt");

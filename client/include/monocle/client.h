@@ -124,7 +124,14 @@ class MONOCLE_CLIENT_API Client {
   ClientResult<std::vector<CameraStatus>> status();
   ClientResult<std::vector<Calibration>> calibrations();
 
-  // Every pose (of `camera`, or of all cameras when empty) as it is published.
+  // Every pose (of `camera`, or of all cameras when empty) as it is published, by the
+  // service that serves the camera (the participant its status comes from). Poses on a
+  // camera's topic from any other participant (spoofed, or a second service misconfigured),
+  // and every pose of a camera two services claim, are not delivered: `on_ignored` says so,
+  // in words, at most once a second per camera.
+  ClientResult<Subscription> subscribe_poses(std::function<void(const Pose&)> on_pose,
+                                             const std::string& camera,
+                                             std::function<void(const std::string&)> on_ignored);
   ClientResult<Subscription> subscribe_poses(std::function<void(const Pose&)> on_pose,
                                              const std::string& camera = "");
   // Every camera's status as it is published (each status period, and on changes).
