@@ -7,9 +7,9 @@
 
 #include "idl/calibration.pb.h"
 #include "service/common/result.h"
-#include "service/io/atomic_file.h"  // WriteFileAtomically, for every text file
 #include "service/geometry/camera_model.h"
 #include "service/geometry/floor_calibration.h"
+#include "service/io/atomic_file.h"  // WriteFileAtomically, for every text file
 
 namespace monocle {
 
