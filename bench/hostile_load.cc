@@ -26,6 +26,8 @@
 #include <iostream>
 #include <mutex>
 #include <random>
+#include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -106,8 +108,9 @@ int HugeWorker(int domain, const std::string& ns, size_t points) {
 }
 
 // `same_id`: every request under the writer's own client id, as a ROS 2 client sends them
-// (a client asking as fast as it can), instead of a fresh one each time.
-int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id) {
+// (a client asking as fast as it can), instead of a fresh one each time. `writers` request
+// writers in the one participant, taking turns, each under its own id.
+int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id, int writers) {
   auto participant = monocle::dds::CreateParticipant(domain);
   if (!participant) return 1;
   // A reply reader too, so the service sees a client it can answer (the costlier case).
@@ -115,22 +118,29 @@ int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id)
       *participant, &monocle_msgs_srv_dds__MeasurePoints_Response__desc,
       monocle::wire::ReplyTopic(ns, monocle::wire::kMeasurePoints).c_str(), false, true,
       monocle::dds::EndpointQos{4096, false});  // deep enough to count every reply
-  auto ep = monocle::dds::Endpoint<Request>::Open(
-      *participant, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
-      monocle::wire::RequestTopic(ns, monocle::wire::kMeasurePoints).c_str(), true, false,
-      monocle::wire::kRosDefaultQos);
-  if (!replies || !ep || !ep->WaitForReader(10s)) return 1;
+  std::vector<monocle::dds::Endpoint<Request>> eps;
+  std::set<dds_instance_handle_t> own_ids;
+  for (int i = 0; i < std::max(1, writers); ++i) {
+    auto ep = monocle::dds::Endpoint<Request>::Open(
+        *participant, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+        monocle::wire::RequestTopic(ns, monocle::wire::kMeasurePoints).c_str(), true, false,
+        monocle::wire::kRosDefaultQos);
+    if (!ep || !ep->WaitForReader(10s)) return 1;
+    dds_instance_handle_t id = 0;
+    (void)dds_get_instance_handle(ep->writer(), &id);
+    own_ids.insert(id);
+    eps.push_back(std::move(ep).value());
+  }
+  if (!replies) return 1;
   monocle::wire::PointRequestColumns columns;
   Request r{};
   monocle::wire::ToSample({{640, 900, std::nullopt}}, 0, &columns, &r);
   std::mt19937_64 rng(7);
-  dds_instance_handle_t own_id = 0;
-  (void)dds_get_instance_handle(ep->writer(), &own_id);
   uint64_t sent = 0, answered = 0;
   const auto count_replies = [&] {
     for (;;) {  // Take returns at most 16 at a time
       const auto taken = replies->Take<int>(0ms, [&](const Reply& reply) {
-        return reply.guid == own_id ? 1 : 0;  // same_id: a reply to this client
+        return own_ids.count(reply.guid) != 0 ? 1 : 0;  // same_id: a reply to this client
       });
       if (!taken || taken->empty()) return;
       answered += static_cast<uint64_t>(std::count(taken->begin(), taken->end(), 1));
@@ -138,9 +148,12 @@ int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id)
   };
   const auto end = Clock::now() + std::chrono::duration<double>(seconds);
   while (Clock::now() < end) {
-    r.guid = same_id ? own_id : rng() | 1;
+    auto& ep = eps[sent % eps.size()];
+    dds_instance_handle_t id = 0;
+    (void)dds_get_instance_handle(ep.writer(), &id);
+    r.guid = same_id ? id : rng() | 1;
     r.seq = static_cast<int64_t>(++sent);
-    (void)ep->Write(r);
+    (void)ep.Write(r);
     if ((sent & 1023) == 0) count_replies();
   }
   std::this_thread::sleep_for(500ms);  // the last replies
@@ -155,7 +168,8 @@ struct Latencies {
   int lost = 0;
 };
 
-Latencies QueryFor(monocle::Client& client, Clock::duration how_long, int max_queries = 1 << 30) {
+Latencies QueryFor(monocle::Client& client, Clock::duration how_long, int max_queries = 1 << 30,
+                   Clock::duration pause = 5ms) {
   Latencies out;
   const auto start = Clock::now();
   const auto end = start + how_long;
@@ -169,9 +183,26 @@ Latencies QueryFor(monocle::Client& client, Clock::duration how_long, int max_qu
       continue;
     }
     out.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    std::this_thread::sleep_for(5ms);  // a robot asking 100-200 times a second
+    std::this_thread::sleep_for(pause);  // a robot asking 50-200 times a second
   }
   return out;
+}
+
+// A flood and what a good client got during it.
+struct Flood {
+  Latencies good;
+  double rss_growth = 0;
+  std::string sent = "0", answered = "0";
+};
+
+// "NAME: S sent, A answered; good client every 20 ms: N answered, L lost, p50 p99 max".
+std::string FairnessLine(const std::string& name, const Flood& f) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(2) << name << ", " << f.sent << " sent, " << f.answered
+    << " answered:\n  good client every 20 ms: " << f.good.ms.size() << " answered, " << f.good.lost
+    << " lost, p50 " << Percentile(f.good.ms, 0.5) << " ms, p99 " << Percentile(f.good.ms, 0.99)
+    << " ms, max " << Percentile(f.good.ms, 1.0) << " ms (goal: 0 lost, p99 <= 50 ms)\n";
+  return s.str();
 }
 
 // A legal storm: `clients` clients at once, each asking for `points` points in one request.
@@ -257,8 +288,9 @@ int main(int argc, char** argv) {
         ("file://" + std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml").c_str(),
         1);
   if (worker == "huge") return HugeWorker(domain, ns, huge_points);
-  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds, false);
-  if (worker == "flood-same-id") return FloodWorker(domain, ns, flood_seconds, true);
+  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds, false, 1);
+  if (worker == "flood-same-id") return FloodWorker(domain, ns, flood_seconds, true, 1);
+  if (worker == "flood-64-writers") return FloodWorker(domain, ns, flood_seconds, true, 64);
 
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   const std::string build = self.parent_path().parent_path().string();
@@ -347,36 +379,44 @@ int main(int argc, char** argv) {
   const double huge_rss_growth = huge_watch.Stop() - rss_before_huge;
 
   // 2. The floods: unique client ids, then one client id (a client asking as fast as it can).
-  struct Flood {
-    Latencies good;
-    double rss_growth = 0;
-    std::string sent = "0", answered = "0";
-  };
-  const auto run_flood = [&](const std::string& kind) {
+  // `processes` flooding processes of `kind`; the good client asks every `pause`.
+  const auto run_flood = [&](const std::string& kind, int processes, Clock::duration pause) {
     Flood f;
     if (flood_seconds <= 0) return f;
     const double rss_before = quiet_peak();
     RssWatch watch(monocled);
-    const std::string log = dir + "/" + kind + ".log";
-    const pid_t flood = Spawn({self.string(), "--worker", kind, "--flood-seconds",
-                               std::to_string(flood_seconds), "--domain", std::to_string(domain)},
-                              log);
-    std::this_thread::sleep_for(1s);  // its discovery; the flood is on from here
-    f.good =
-        QueryFor(*client, std::chrono::duration_cast<Clock::duration>(
-                              std::chrono::duration<double>(std::max(0.5, flood_seconds - 1.5))));
-    waitpid(flood, nullptr, 0);
+    std::vector<pid_t> floods;
+    for (int i = 0; i < processes; ++i) {
+      floods.push_back(Spawn({self.string(), "--worker", kind, "--flood-seconds",
+                              std::to_string(flood_seconds), "--domain", std::to_string(domain)},
+                             dir + "/" + kind + std::to_string(i) + ".log"));
+    }
+    std::this_thread::sleep_for(1s);  // their discovery; the flood is on from here
+    f.good = QueryFor(*client,
+                      std::chrono::duration_cast<Clock::duration>(
+                          std::chrono::duration<double>(std::max(0.5, flood_seconds - 1.5))),
+                      1 << 30, pause);
+    for (const pid_t flood : floods) waitpid(flood, nullptr, 0);
     f.rss_growth = watch.Stop() - rss_before;
-    std::ifstream in(log);
-    for (std::string line; std::getline(in, line);)
-      if (line.rfind("sent ", 0) == 0)
-        f.sent = line.substr(5);
-      else if (line.rfind("answered ", 0) == 0)
-        f.answered = line.substr(9);
+    uint64_t sent = 0, answered = 0;
+    for (int i = 0; i < processes; ++i) {
+      std::ifstream in(dir + "/" + kind + std::to_string(i) + ".log");
+      for (std::string line; std::getline(in, line);)
+        if (line.rfind("sent ", 0) == 0)
+          sent += std::stoull(line.substr(5));
+        else if (line.rfind("answered ", 0) == 0)
+          answered += std::stoull(line.substr(9));
+    }
+    f.sent = std::to_string(sent);
+    f.answered = std::to_string(answered);
     return f;
   };
-  const Flood unique_ids = run_flood("flood");
-  const Flood same_id = run_flood("flood-same-id");
+  const Flood unique_ids = run_flood("flood", 1, 5ms);
+  const Flood same_id = run_flood("flood-same-id", 1, 5ms);
+  // Fair by client, not by writer: one participant with 64 writers, and 8 participants, each
+  // under their own ids; the good client asks every 20 ms.
+  const Flood writers64 = run_flood("flood-64-writers", 1, 20ms);
+  const Flood participants8 = run_flood("flood-same-id", 8, 20ms);
   const Latencies& during_flood = unique_ids.good;
   const double flood_rss_growth = unique_ids.rss_growth;
   const std::string& flood_sent = unique_ids.sent;
@@ -436,6 +476,20 @@ int main(int argc, char** argv) {
               << ",\"same_id_flood_good_lost\":" << same_id.good.lost
               << ",\"same_id_flood_good_p99_ms\":" << Percentile(same_id.good.ms, 0.99)
               << ",\"same_id_flood_rss_growth_mb\":" << same_id.rss_growth
+              << ",\"writers64_sent\":" << writers64.sent
+              << ",\"writers64_answered\":" << writers64.answered
+              << ",\"writers64_good_queries\":" << writers64.good.ms.size()
+              << ",\"writers64_good_lost\":" << writers64.good.lost
+              << ",\"writers64_good_p50_ms\":" << Percentile(writers64.good.ms, 0.5)
+              << ",\"writers64_good_p99_ms\":" << Percentile(writers64.good.ms, 0.99)
+              << ",\"writers64_good_max_ms\":" << Percentile(writers64.good.ms, 1.0)
+              << ",\"participants8_sent\":" << participants8.sent
+              << ",\"participants8_answered\":" << participants8.answered
+              << ",\"participants8_good_queries\":" << participants8.good.ms.size()
+              << ",\"participants8_good_lost\":" << participants8.good.lost
+              << ",\"participants8_good_p50_ms\":" << Percentile(participants8.good.ms, 0.5)
+              << ",\"participants8_good_p99_ms\":" << Percentile(participants8.good.ms, 0.99)
+              << ",\"participants8_good_max_ms\":" << Percentile(participants8.good.ms, 1.0)
               << ",\"many_queries\":" << many.ms.size() << ",\"many_lost\":" << many.lost
               << ",\"many_p99_ms\":" << Percentile(many.ms, 0.99)
               << ",\"storm_clients\":" << storm_clients << ",\"storm_points\":" << storm_points
@@ -466,10 +520,11 @@ int main(int argc, char** argv) {
               << " ms (goal: 0 lost, p99 <= 20 ms)\n"
               << std::setprecision(1) << "  monocled RSS growth " << same_id.rss_growth
               << " MB (goal <= 50)\n"
-              << clients << " clients x " << queries << " queries: " << many.ms.size()
-              << " answered, " << many.lost << " lost, p50 " << std::setprecision(2)
-              << Percentile(many.ms, 0.5) << " ms, p99 " << Percentile(many.ms, 0.99)
-              << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+              << FairnessLine("one participant, 64 request writers", writers64)
+              << FairnessLine("8 flooding participants", participants8) << clients << " clients x "
+              << queries << " queries: " << many.ms.size() << " answered, " << many.lost
+              << " lost, p50 " << std::setprecision(2) << Percentile(many.ms, 0.5) << " ms, p99 "
+              << Percentile(many.ms, 0.99) << " ms (goal: 0 lost, p99 <= 20 ms)\n"
               << storm_clients << " clients x " << storm_points
               << " points at once: " << storm.answered << " answered; monocled RSS up "
               << std::setprecision(1) << storm.peak_growth_mb << " MB at the peak, "

@@ -48,6 +48,7 @@ class RequestServer {
     Value value;
     dds::RequestHeader header;
     Server* server = nullptr;  // to reply on
+    std::string client;        // the participant that sent it (dds::WriterSources)
   };
   using Parse = std::function<Value(const Request&)>;
   using Handle = std::function<void(Incoming&&)>;
@@ -55,10 +56,13 @@ class RequestServer {
   using Tick = std::function<void()>;               // on the server's thread, every kTick
 
   static constexpr std::chrono::milliseconds kTick{100};
-  // Requests waiting for the server's thread, per client (its request writer) and in all;
-  // beyond these the client's oldest is dropped (as a DDS keep-last history would), so a
-  // flood can neither grow memory nor push other clients' requests out. The server's thread
-  // takes the clients in turn.
+  // A client is a participant: all request writers of one participant share one budget and
+  // one queue, so a client gains nothing by opening more writers.
+  //
+  // Requests waiting for the server's thread, per client and in all; beyond these the
+  // client's oldest is dropped (as a DDS keep-last history would), so a flood can neither
+  // grow memory nor push other clients' requests out. The server's thread takes the clients
+  // in turn.
   static constexpr size_t kMaxQueuedPerClient = 8;
   static constexpr size_t kMaxQueued = 64;
   // A new client's first request may come before its reply reader is matched to our reply
@@ -69,11 +73,15 @@ class RequestServer {
   static constexpr std::chrono::milliseconds kParkedCheck{2};
   static constexpr std::chrono::milliseconds kParkedLimit{3000};
   static constexpr size_t kMaxKnownWriters = 4096;
-  // Each client (request writer) may send this many requests a second, in bursts of up to
-  // kBurst; more are dropped before any work. A robot asks 100-200 times a second, a client
-  // asking in a tight loop ~3000 (one round trip is ~0.3 ms); a client
-  // flooding under its own id gets its share and no more, so it cannot starve the others.
+  // Each client may send this many requests a second, in bursts of up to kBurst; more are
+  // dropped before any work. A robot asks 100-200 times a second, a client asking in a tight
+  // loop ~3000 (one round trip is ~0.3 ms). When many clients ask at once the service's
+  // kServiceRequestsPerSecond is shared among those heard in the last second (no less than
+  // kMinRequestsPerSecond each): a flood gets its share and no more, from any number of
+  // participants, so it cannot starve the others.
   static constexpr double kMaxRequestsPerSecond = 5000;
+  static constexpr double kServiceRequestsPerSecond = 10000;
+  static constexpr double kMinRequestsPerSecond = 400;
   static constexpr double kBurst = 500;
 
   // `cameras` must outlive the server. `handle` may run on two threads at once.
@@ -92,8 +100,10 @@ class RequestServer {
       auto server =
           Server::Open(participant, request_type, reply_type, cam->ros_namespace, service);
       if (!server) return server.error();
+      auto opened = std::make_unique<Server>(std::move(server).value());
+      auto sources = std::make_unique<dds::WriterSources>(opened->request_reader());
       s->servers_.push_back(std::make_unique<PerCamera>(
-          PerCamera{cam, std::make_unique<Server>(std::move(server).value()), s.get()}));
+          PerCamera{cam, std::move(opened), s.get(), std::move(sources)}));
       if (auto l = dds::SetDataAvailableListener(s->servers_.back()->server->request_reader(),
                                                  &RequestServer::OnDataAvailable,
                                                  s->servers_.back().get());
@@ -124,6 +134,7 @@ class RequestServer {
     const CameraSetup* camera;
     std::unique_ptr<Server> server;
     RequestServer* owner;
+    std::unique_ptr<dds::WriterSources> sources;  // of its requests; under ids_mutex_
   };
   RequestServer() = default;
 
@@ -135,14 +146,14 @@ class RequestServer {
   void Receive(PerCamera& pc) {
     auto taken = pc.server->template TakeRequests<Incoming>(
         [&](const Request& r, const dds::RequestHeader& h) {
-          return Incoming{pc.camera, parse_(r), h, pc.server.get()};
+          return Incoming{pc.camera, parse_(r), h, pc.server.get(), std::string()};
         });
     if (!taken) {
       std::cerr << "monocled: " << taken.error() << "\n";
       return;
     }
     for (auto& in : std::move(taken).value()) {
-      const Admission admitted = Admit(pc, in.header);
+      const Admission admitted = Admit(pc, in.header, &in.client);
       if (admitted == Admission::kDrop) continue;
       if (quick_ && quick_(in.value) && in.server->ClientReaderMatched(in.header)) {
         handle_(std::move(in));
@@ -160,9 +171,10 @@ class RequestServer {
   // too), so a writer whose id changes between requests is not a client but a flood of
   // made-up ones: its requests after the first id are dropped before any work, and no reply
   // (which every client's reply reader would receive and have to discard) is sent. A writer
-  // over its rate (kMaxRequestsPerSecond) is dropped too. All logged at most once a second.
+  // over its client's share of the rate is dropped too. All logged at most once a second.
+  // `client` is set to the participant that sent it.
   enum class Admission { kNow, kDrop };
-  Admission Admit(PerCamera& pc, const dds::RequestHeader& h) {
+  Admission Admit(PerCamera& pc, const dds::RequestHeader& h, std::string* client) {
     const auto now = std::chrono::steady_clock::now();
     if (h.guid == 0) {
       Warn(now,
@@ -174,20 +186,24 @@ class RequestServer {
       std::lock_guard<std::mutex> lock(ids_mutex_);
       // Bounded: a long-running service forgets old writers and learns them again.
       if (clients_.size() > kMaxKnownWriters) clients_.clear();
-      const auto [it, first] =
-          clients_.try_emplace(h.publication, Client{h.guid, h.seq, kBurst, now});
+      if (budgets_.size() > kMaxKnownWriters) budgets_.clear();
+      const auto [it, first] = clients_.try_emplace(h.publication, Client{h.guid, h.seq});
       Client& c = it->second;
+      *client = pc.sources->Of(h.publication);
+      if (client->empty()) *client = "writer " + std::to_string(h.publication);
       if (!first && c.guid != h.guid) {
         verdict = kChangedId;
       } else {
-        c.tokens = std::min(kBurst,
-                            c.tokens + kMaxRequestsPerSecond *
-                                           std::chrono::duration<double>(now - c.refilled).count());
-        c.refilled = now;
-        if (c.tokens < 1) {
+        Budget& b = budgets_.try_emplace(*client, Budget{kBurst, now, now}).first->second;
+        b.tokens = std::min(
+            kBurst,
+            b.tokens + ShareNow(now) * std::chrono::duration<double>(now - b.refilled).count());
+        b.refilled = now;
+        b.heard = now;
+        if (b.tokens < 1) {
           verdict = kOverRate;
         } else {
-          c.tokens -= 1;
+          b.tokens -= 1;
           // A client sends a request of an idempotent service (points, poses) again when no
           // reply came (the request or the reply was lost): the newest one is answered again;
           // a copy older than a request already taken is dropped.
@@ -202,11 +218,24 @@ class RequestServer {
              (verdict == kChangedId
                   ? ": a request writer changed its client id (guid) between requests; "
                     "its requests under a new id are dropped"
-                  : ": a client sends more than " +
+                  : ": a client sends more than its share of requests (" +
                         std::to_string(static_cast<int>(kMaxRequestsPerSecond)) +
-                        " requests a second; the excess is dropped");
+                        " a second, less while many clients ask); the excess is dropped");
     });
     return Admission::kDrop;
+  }
+
+  // Under ids_mutex_: each client's rate now, requests a second.
+  double ShareNow(std::chrono::steady_clock::time_point now) {
+    if (now - share_counted_ > std::chrono::milliseconds(100)) {
+      share_counted_ = now;
+      size_t active = 0;
+      for (const auto& [id, b] : budgets_) active += now - b.heard < std::chrono::seconds(1);
+      share_ =
+          std::clamp(kServiceRequestsPerSecond / static_cast<double>(std::max<size_t>(active, 1)),
+                     kMinRequestsPerSecond, kMaxRequestsPerSecond);
+    }
+    return share_;
   }
 
   // Logs at most once a second. `what` is a string or a callable making it: a flood's drops
@@ -225,7 +254,7 @@ class RequestServer {
 
   // Under mutex_.
   void Enqueue(PerCamera& pc, Incoming&& in) {
-    const dds_instance_handle_t client = in.header.publication;
+    const std::string client = in.client;
     auto& mine = queues_[client];
     if (mine.empty()) turns_.push_back(client);
     if (mine.size() >= kMaxQueuedPerClient || queued_ >= kMaxQueued) {
@@ -248,7 +277,7 @@ class RequestServer {
   // Under mutex_: the next request, one client after another.
   bool Dequeue(Incoming* out) {
     while (!turns_.empty()) {
-      const dds_instance_handle_t client = turns_.front();
+      const std::string client = turns_.front();
       turns_.pop_front();
       auto it = queues_.find(client);
       if (it == queues_.end() || it->second.empty()) {
@@ -328,8 +357,8 @@ class RequestServer {
   Tick tick_;
   std::mutex mutex_;
   std::condition_variable wake_;
-  std::map<dds_instance_handle_t, std::deque<Incoming>> queues_;  // per client
-  std::deque<dds_instance_handle_t> turns_;                       // clients waiting, in turn
+  std::map<std::string, std::deque<Incoming>> queues_;  // per client (participant)
+  std::deque<std::string> turns_;                       // clients waiting, in turn
   size_t queued_ = 0;
   bool stop_ = false;
   std::deque<std::pair<std::chrono::steady_clock::time_point, Incoming>> parked_;
@@ -338,10 +367,16 @@ class RequestServer {
   struct Client {
     uint64_t guid = 0;  // its client id
     int64_t seq = 0;    // its newest request
-    double tokens = 0;  // requests it may still send now
-    std::chrono::steady_clock::time_point refilled;
   };
   std::map<dds_instance_handle_t, Client> clients_;  // by request writer
+  // A client's (participant's) budget: requests it may still send now.
+  struct Budget {
+    double tokens = 0;
+    std::chrono::steady_clock::time_point refilled, heard;
+  };
+  std::map<std::string, Budget> budgets_;  // by participant
+  double share_ = kMaxRequestsPerSecond;
+  std::chrono::steady_clock::time_point share_counted_{};
   std::mutex warn_mutex_;
   std::chrono::steady_clock::time_point last_warning_{};
   std::thread thread_;

@@ -1,7 +1,8 @@
 // Hostile input over raw DDS, driven by bench/hostile_load in its own process (monocled in
 // another): a request far beyond the size cap costs the service no memory and the next good
 // query is answered; during a flood of made-up client ids and during a flood under one client
-// id, a good client loses nothing, and the flooding client gets no more than its rate; many
+// id, a good client loses nothing, and the flooding client gets no more than its rate (one
+// participant with many writers, or many participants, no more than their share); many
 // clients at once lose nothing; a storm of legal large requests leaves no memory behind.
 // (Latencies are the bench's to report, not a test's.)
 #include <gtest/gtest.h>
@@ -56,6 +57,17 @@ TEST(HostileInputTest, AHugeRequestCostsNoMemoryAndTheServiceKeepsAnswering) {
   EXPECT_GT(Field(out, "same_id_flood_sent"), 100000) << out;
   EXPECT_GT(Field(out, "same_id_flood_answered"), 1000) << out;
   EXPECT_LE(Field(out, "same_id_flood_answered"), 5000 * 4 + 500) << out;
+  // Fair by client, not by writer: one participant's 64 request writers share one client's
+  // budget (5000 a second, a burst of 500) over the 3 s flood and the half second its writers
+  // linger, and 8 flooding participants share the service's 10 000 a second; the good client
+  // loses nothing either way.
+  EXPECT_EQ(Field(out, "writers64_good_lost"), 0) << out;
+  EXPECT_GT(Field(out, "writers64_good_queries"), 0) << out;
+  EXPECT_GT(Field(out, "writers64_sent"), 100000) << out;
+  EXPECT_LE(Field(out, "writers64_answered"), 5000 * 3.5 + 500) << out;
+  EXPECT_EQ(Field(out, "participants8_good_lost"), 0) << out;
+  EXPECT_GT(Field(out, "participants8_good_queries"), 0) << out;
+  EXPECT_LE(Field(out, "participants8_answered"), 10000 * 3.5 + 8 * 500) << out;
   EXPECT_EQ(Field(out, "many_lost"), 0) << out;
   EXPECT_EQ(Field(out, "many_queries"), 4 * 50) << out;
   // Eight clients' legal 100 000-point requests at once: all answered, and what they took is
