@@ -619,6 +619,8 @@ class PoseReaders {
           first = false;
         }
         why += ") and none of them can be trusted until only one is left";
+      } else if (r.serving.empty()) {
+        why = "no service says it serves it now (stopped, or not heard from yet)";
       } else {
         why =
             "they came from a participant that does not serve it (spoofed, or another "
