@@ -9,29 +9,18 @@
 #include <random>
 
 #include "service/geometry/map_pose.h"
+#include "service/geometry/robot_test_scenes.h"
 
 namespace monocle {
 namespace {
 
-// A camera 0.4 m above the floor, 0.1 m ahead of the base's origin, looking ahead and up,
-// tilted `up_deg` from the vertical towards the robot's front.
-RigidTransform Mount(double up_deg = 35) {
-  const double t = up_deg * M_PI / 180;
-  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t));  // optical axis in the base frame
-  const Eigen::Vector3d x(0, -1, 0);                     // image right = robot's right
-  Eigen::Matrix3d r;
-  r << x, z.cross(x), z;
-  return {Eigen::Quaterniond(r), Eigen::Vector3d(0.1, 0, 0.4)};
-}
+RigidTransform Mount() { return testing::MountLookingUp(35, 0); }
 
 // The base upright on the floor `ceiling_m` below the corner (corner frame: Z down), at x, y,
 // its +x axis `heading_rad` from the corner's X towards Y.
 RigidTransform UprightBase(double x_m, double y_m, double heading_rad, double ceiling_m) {
-  const Eigen::Vector3d x(std::cos(heading_rad), std::sin(heading_rad), 0);
-  const Eigen::Vector3d z(0, 0, -1);
-  Eigen::Matrix3d r;
-  r << x, z.cross(x), z;
-  return {Eigen::Quaterniond(r), Eigen::Vector3d(x_m, y_m, ceiling_m)};
+  return {Eigen::Quaterniond(testing::CornerFromBase(heading_rad)),
+          Eigen::Vector3d(x_m, y_m, ceiling_m)};
 }
 
 CornerPose SolvedPose(const RigidTransform& corner_base, const RigidTransform& mount) {

@@ -9,17 +9,14 @@
 #include <cmath>
 
 #include "idl/cli_output.pb.h"
+#include "service/geometry/robot_test_scenes.h"
 
 namespace monocle::testing {
 
 // The optical frame in the base frame (x ahead, z up) of a camera looking ahead and up,
 // `up_deg` from the vertical, upright: image right is the robot's right.
 inline Eigen::Quaterniond CameraLookingUp(double up_deg) {
-  const double t = up_deg * M_PI / 180;
-  const Eigen::Vector3d z(std::sin(t), 0, std::cos(t)), x(0, -1, 0);
-  Eigen::Matrix3d r;
-  r << x, z.cross(x), z;
-  return Eigen::Quaterniond(r);
+  return MountLookingUp(up_deg, 0).rotation;
 }
 
 // With the mount of CameraLookingUp at translation_m [0.1, 0, 0.4], the robot's base in the corner
