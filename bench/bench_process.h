@@ -3,6 +3,7 @@
 #pragma once
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,6 +28,8 @@ inline pid_t Spawn(const std::vector<std::string>& args, const std::string& log)
   std::cout.flush();  // the child must not print what the parent has buffered
   const pid_t pid = fork();
   if (pid == 0) {
+    // A benchmark that dies (or is killed) takes what it started with it.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (freopen(log.c_str(), "w", stdout) == nullptr ||
         freopen(log.c_str(), "a", stderr) == nullptr)
       _exit(126);

@@ -11,6 +11,7 @@
 // monocled runs in its own process with its simulated floor camera (state in a temporary
 // directory), DDS on loopback (docker/cyclonedds-loopback.xml unless CYCLONEDDS_URI is set).
 // The issue's goals are printed beside each figure. `--json` prints one JSON object for tests.
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -84,10 +85,31 @@ class RssWatch {
   std::thread thread_;
 };
 
+// How a worker process joins: its identity under DDS Security (empty: plain DDS), the CPU
+// it runs on (-1: any) and its nice value.
+struct WorkerPlace {
+  std::string security_dir;
+  int cpu = -1;
+  int nice_value = 0;
+};
+
+monocle::Result<std::shared_ptr<monocle::dds::Entity>> JoinAs(int domain, const WorkerPlace& at) {
+  if (at.cpu >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(at.cpu, &set);
+    sched_setaffinity(0, sizeof set, &set);
+  }
+  if (at.nice_value != 0) (void)!nice(at.nice_value);
+  return monocle::dds::CreateParticipant(domain, at.security_dir);
+}
+
 // The workers: separate processes, raw DDS on the camera's request topic.
-int HugeWorker(int domain, const std::string& ns, size_t points) {
+int HugeWorker(int domain, const std::string& ns, size_t points, const WorkerPlace& at) {
+  auto participant = JoinAs(domain, at);
+  if (!participant) return 1;
   auto ep = monocle::dds::Endpoint<Request>::Open(
-      domain, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
+      *participant, &monocle_msgs_srv_dds__MeasurePoints_Request__desc,
       monocle::wire::RequestTopic(ns, monocle::wire::kMeasurePoints).c_str(), true, false,
       monocle::wire::kRosDefaultQos);
   if (!ep || !ep->WaitForReader(10s)) return 1;
@@ -110,8 +132,9 @@ int HugeWorker(int domain, const std::string& ns, size_t points) {
 // `same_id`: every request under the writer's own client id, as a ROS 2 client sends them
 // (a client asking as fast as it can), instead of a fresh one each time. `writers` request
 // writers in the one participant, taking turns, each under its own id.
-int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id, int writers) {
-  auto participant = monocle::dds::CreateParticipant(domain);
+int FloodWorker(int domain, const std::string& ns, double seconds, bool same_id, int writers,
+                const WorkerPlace& at) {
+  auto participant = JoinAs(domain, at);
   if (!participant) return 1;
   // A reply reader too, so the service sees a client it can answer (the costlier case).
   auto replies = monocle::dds::Endpoint<Reply>::Open(
@@ -196,12 +219,14 @@ struct Flood {
 };
 
 // "NAME: S sent, A answered; good client every 20 ms: N answered, L lost, p50 p99 max".
-std::string FairnessLine(const std::string& name, const Flood& f) {
+std::string FairnessLine(const std::string& name, const Flood& f,
+                         const std::string& goal = "0 lost, p99 <= 50 ms") {
   std::ostringstream s;
   s << std::fixed << std::setprecision(2) << name << ", " << f.sent << " sent, " << f.answered
     << " answered:\n  good client every 20 ms: " << f.good.ms.size() << " answered, " << f.good.lost
     << " lost, p50 " << Percentile(f.good.ms, 0.5) << " ms, p99 " << Percentile(f.good.ms, 0.99)
-    << " ms, max " << Percentile(f.good.ms, 1.0) << " ms (goal: 0 lost, p99 <= 50 ms)\n";
+    << " ms, max " << Percentile(f.good.ms, 1.0) << " ms"
+    << (goal.empty() ? "" : " (goal: " + goal + ")") << "\n";
   return s.str();
 }
 
@@ -223,7 +248,8 @@ double QuietLeast(pid_t pid) {
   return least;
 }
 
-Storm RunStorm(pid_t monocled, int domain, int clients, size_t points) {
+Storm RunStorm(pid_t monocled, const monocle::Client::Options& options, int clients,
+               size_t points) {
   Storm out;
   const double before = QuietLeast(monocled);
   RssWatch watch(monocled);
@@ -231,7 +257,9 @@ Storm RunStorm(pid_t monocled, int domain, int clients, size_t points) {
   std::vector<std::thread> threads;
   for (int c = 0; c < clients; ++c) {
     threads.emplace_back([&] {
-      auto own = monocle::Client::open({domain, 60s});
+      auto opts = options;
+      opts.timeout = 60s;
+      auto own = monocle::Client::open(opts);
       if (!own) return;
       const auto r =
           own->measure("sim-floor", std::vector<monocle::PixelQuery>(points, {640, 900, {}}));
@@ -246,6 +274,29 @@ Storm RunStorm(pid_t monocled, int domain, int clients, size_t points) {
   return out;
 }
 
+// A worker's command line with where it runs.
+std::vector<std::string> WorkerArgs(std::vector<std::string> args, const std::string& identity,
+                                    int cpu, int nice_value) {
+  if (!identity.empty()) args.insert(args.end(), {"--identity", identity});
+  if (cpu >= 0) args.insert(args.end(), {"--cpu", std::to_string(cpu)});
+  if (nice_value != 0) args.insert(args.end(), {"--nice", std::to_string(nice_value)});
+  return args;
+}
+
+// With two CPUs or more: this process (and what it starts, monocled too) keeps all but the
+// last, which is returned for the floods. One CPU: -1, the floods share it.
+int PlaceFloodsApart() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0 || CPU_COUNT(&set) < 2) return -1;
+  int last = -1;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &set)) last = c;
+  CPU_CLR(last, &set);
+  sched_setaffinity(0, sizeof set, &set);
+  return last;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -253,8 +304,9 @@ int main(int argc, char** argv) {
   size_t storm_points = 100'000;
   size_t huge_points = 50'000'000;
   double flood_seconds = 10;
-  bool json = false;
-  std::string worker, ns = "/monocle/sim_floor";
+  bool json = false, secure = false, co_located = false;
+  WorkerPlace place;
+  std::string worker, only, ns = "/monocle/sim_floor";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool v = i + 1 < argc;
@@ -274,11 +326,28 @@ int main(int argc, char** argv) {
       storm_clients = std::max(0, std::atoi(argv[++i]));
     } else if (a == "--storm-points" && v) {
       storm_points = std::strtoull(argv[++i], nullptr, 10);
+    } else if (a == "--secure") {
+      secure = true;
+    } else if (a == "--co-located") {
+      co_located = true;
+    } else if (a == "--identity" && v) {
+      place.security_dir = argv[++i];
+    } else if (a == "--cpu" && v) {
+      place.cpu = std::atoi(argv[++i]);
+    } else if (a == "--nice" && v) {
+      place.nice_value = std::atoi(argv[++i]);
+    } else if (a == "--only" && v) {
+      only = argv[++i];
     } else if (a == "--worker" && v) {
       worker = argv[++i];
     } else {
       std::cerr << "usage: hostile_load [--points N] [--flood-seconds S] [--clients C] "
-                   "[--queries Q] [--storm-clients N] [--storm-points P] [--domain D] [--json]\n";
+                   "[--queries Q] [--storm-clients N] [--storm-points P] [--domain D] [--json]\n"
+                   "  [--secure]: everything under DDS Security, the floods from one "
+                   "authenticated 'reader' identity\n"
+                   "  [--co-located]: also 8 flooding participants on monocled's own CPUs\n"
+                   "  [--only LABEL,...]: those floods alone (flood1 flood-same-id1 "
+                   "flood-64-writers1 flood-same-id8 shared shared-weighted)\n";
       return 2;
     }
   }
@@ -287,10 +356,10 @@ int main(int argc, char** argv) {
         "CYCLONEDDS_URI",
         ("file://" + std::string(MONOCLE_SOURCE_DIR) + "/docker/cyclonedds-loopback.xml").c_str(),
         1);
-  if (worker == "huge") return HugeWorker(domain, ns, huge_points);
-  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds, false, 1);
-  if (worker == "flood-same-id") return FloodWorker(domain, ns, flood_seconds, true, 1);
-  if (worker == "flood-64-writers") return FloodWorker(domain, ns, flood_seconds, true, 64);
+  if (worker == "huge") return HugeWorker(domain, ns, huge_points, place);
+  if (worker == "flood") return FloodWorker(domain, ns, flood_seconds, false, 1, place);
+  if (worker == "flood-same-id") return FloodWorker(domain, ns, flood_seconds, true, 1, place);
+  if (worker == "flood-64-writers") return FloodWorker(domain, ns, flood_seconds, true, 64, place);
 
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   const std::string build = self.parent_path().parent_path().string();
@@ -305,13 +374,32 @@ int main(int argc, char** argv) {
     std::cerr << s.error() << "\n";
     return 1;
   }
+  // --secure: one keystore, monocled's identity, the good clients' and the flooders' (both
+  // 'reader', which may query points).
+  const std::string keys = dir + "/keys";
+  if (secure) {
+    const std::string init = build + "/client/monocle security init " + keys +
+                             " --client good:reader --client flood:reader >" + dir +
+                             "/keys.log 2>&1";
+    if (std::system(init.c_str()) != 0) {
+      std::cerr << "cannot make a keystore: see " << dir << "/keys.log\n";
+      return 1;
+    }
+  }
+  const monocle::Client::Options good_client{domain, 5s, secure ? keys + "/good" : ""};
+  const std::string flood_identity = secure ? keys + "/flood" : "";
+  // The floods stand for other machines on the network: their CPU is not ours. With two CPUs
+  // or more they run on the last, monocled and the good clients on the others (it inherits
+  // this process's). --co-located adds a flood on monocled's own CPUs.
+  const int flood_cpu = PlaceFloodsApart();
   std::ofstream(dir + "/monocled.pbtxt")
       << "domain: " << domain << "\ndiscovery_wait_s: 0\n"
+      << (secure ? "security_dir: \"" + keys + "/monocled\"\n" : "")
       << "camera { id: \"sim-floor\" device: \"sim-floor\" role: FLOOR calibration: \"" << dir
       << "/state/sim-floor.pbtxt\" }\n";
   const pid_t monocled = Spawn({build + "/service/monocled", "--config", dir + "/monocled.pbtxt"},
                                dir + "/monocled.log");
-  auto client = monocle::Client::open({domain, 5s});
+  auto client = monocle::Client::open(good_client);
   if (!client) {
     std::cerr << client.error() << "\n";
     Stop(monocled);
@@ -336,7 +424,15 @@ int main(int argc, char** argv) {
     }
     std::this_thread::sleep_for(1s);
   }
-  if (!json) std::cout << "monocled ready (RSS " << RssMb(monocled) << " MB)\n";
+  if (!json) {
+    std::cout << "monocled ready (RSS " << RssMb(monocled) << " MB)"
+              << (secure ? ", DDS Security on, floods from one 'reader' identity" : ", plain DDS")
+              << "\n"
+              << (flood_cpu >= 0 ? "floods on CPU " + std::to_string(flood_cpu) +
+                                       " (standing for other machines), monocled and the good "
+                                       "client on the others\n"
+                                 : "one CPU: the floods share it with monocled\n");
+  }
 
   // RSS moves by tens of MB with the corner camera's processing: growth is measured from the
   // peak of a quiet second before each scenario.
@@ -356,9 +452,11 @@ int main(int argc, char** argv) {
   const double rss_before_huge = quiet_peak();
   RssWatch huge_watch(monocled);
   const auto huge_start = Clock::now();
-  const pid_t huge = Spawn({self.string(), "--worker", "huge", "--points",
-                            std::to_string(huge_points), "--domain", std::to_string(domain)},
-                           dir + "/huge.log");
+  const pid_t huge =
+      Spawn(WorkerArgs({self.string(), "--worker", "huge", "--points", std::to_string(huge_points),
+                        "--domain", std::to_string(domain)},
+                       flood_identity, flood_cpu, 0),
+            dir + "/huge.log");
   // Until the worker has written (its log says so), then the time a good query takes.
   double written_after_s = -1;
   for (int i = 0; i < 6000; ++i) {
@@ -379,17 +477,23 @@ int main(int argc, char** argv) {
   const double huge_rss_growth = huge_watch.Stop() - rss_before_huge;
 
   // 2. The floods: unique client ids, then one client id (a client asking as fast as it can).
-  // `processes` flooding processes of `kind`; the good client asks every `pause`.
-  const auto run_flood = [&](const std::string& kind, int processes, Clock::duration pause) {
+  // `processes` flooding processes of `kind` on `cpu` (-1: monocled's) at `nice_value`; the
+  // good client asks every `pause`. `label` names it for --only.
+  const auto run_flood = [&](const std::string& kind, int processes, Clock::duration pause, int cpu,
+                             int nice_value, const std::string& label) {
     Flood f;
-    if (flood_seconds <= 0) return f;
+    if (flood_seconds <= 0 ||
+        (!only.empty() && ("," + only + ",").find("," + label + ",") == std::string::npos))
+      return f;
     const double rss_before = quiet_peak();
     RssWatch watch(monocled);
     std::vector<pid_t> floods;
     for (int i = 0; i < processes; ++i) {
-      floods.push_back(Spawn({self.string(), "--worker", kind, "--flood-seconds",
-                              std::to_string(flood_seconds), "--domain", std::to_string(domain)},
-                             dir + "/" + kind + std::to_string(i) + ".log"));
+      floods.push_back(
+          Spawn(WorkerArgs({self.string(), "--worker", kind, "--flood-seconds",
+                            std::to_string(flood_seconds), "--domain", std::to_string(domain)},
+                           flood_identity, cpu, nice_value),
+                dir + "/" + kind + std::to_string(i) + ".log"));
     }
     std::this_thread::sleep_for(1s);  // their discovery; the flood is on from here
     f.good = QueryFor(*client,
@@ -411,12 +515,20 @@ int main(int argc, char** argv) {
     f.answered = std::to_string(answered);
     return f;
   };
-  const Flood unique_ids = run_flood("flood", 1, 5ms);
-  const Flood same_id = run_flood("flood-same-id", 1, 5ms);
+  const Flood unique_ids = run_flood("flood", 1, 5ms, flood_cpu, 0, "flood1");
+  const Flood same_id = run_flood("flood-same-id", 1, 5ms, flood_cpu, 0, "flood-same-id1");
   // Fair by client, not by writer: one participant with 64 writers, and 8 participants, each
   // under their own ids; the good client asks every 20 ms.
-  const Flood writers64 = run_flood("flood-64-writers", 1, 20ms);
-  const Flood participants8 = run_flood("flood-same-id", 8, 20ms);
+  const Flood writers64 = run_flood("flood-64-writers", 1, 20ms, flood_cpu, 0, "flood-64-writers1");
+  const Flood participants8 = run_flood("flood-same-id", 8, 20ms, flood_cpu, 0, "flood-same-id8");
+  // On monocled's own CPUs the scheduler shares them out among runnable threads: 8 busy
+  // flooders take most of them at equal weight, and give them back when monocled's weight is
+  // above theirs (here their nice 19; on a robot systemd's CPUWeight or docker --cpu-shares).
+  Flood shared_equal, shared_weighted;
+  if (co_located) {
+    shared_equal = run_flood("flood-same-id", 8, 20ms, -1, 0, "shared");
+    shared_weighted = run_flood("flood-same-id", 8, 20ms, -1, 19, "shared-weighted");
+  }
   const Latencies& during_flood = unique_ids.good;
   const double flood_rss_growth = unique_ids.rss_growth;
   const std::string& flood_sent = unique_ids.sent;
@@ -427,7 +539,9 @@ int main(int argc, char** argv) {
   std::vector<std::thread> threads;
   for (int c = 0; c < clients; ++c) {
     threads.emplace_back([&] {
-      auto own = monocle::Client::open({domain, 10s});
+      auto opts = good_client;
+      opts.timeout = 10s;
+      auto own = monocle::Client::open(opts);
       if (!own) {
         std::lock_guard<std::mutex> lock(m);
         many.lost += queries;
@@ -455,7 +569,7 @@ int main(int argc, char** argv) {
   for (auto& t : threads) t.join();
 
   // 4. A legal storm of large requests, and what monocled keeps of it.
-  const Storm storm = RunStorm(monocled, domain, storm_clients, storm_points);
+  const Storm storm = RunStorm(monocled, good_client, storm_clients, storm_points);
   const bool alive = waitpid(monocled, nullptr, WNOHANG) == 0;
   Stop(monocled);
 
@@ -490,6 +604,14 @@ int main(int argc, char** argv) {
               << ",\"participants8_good_p50_ms\":" << Percentile(participants8.good.ms, 0.5)
               << ",\"participants8_good_p99_ms\":" << Percentile(participants8.good.ms, 0.99)
               << ",\"participants8_good_max_ms\":" << Percentile(participants8.good.ms, 1.0)
+              << ",\"secure\":" << (secure ? "true" : "false")
+              << ",\"floods_apart\":" << (flood_cpu >= 0 ? "true" : "false")
+              << ",\"shared_good_queries\":" << shared_equal.good.ms.size()
+              << ",\"shared_good_lost\":" << shared_equal.good.lost
+              << ",\"shared_good_p99_ms\":" << Percentile(shared_equal.good.ms, 0.99)
+              << ",\"shared_weighted_good_queries\":" << shared_weighted.good.ms.size()
+              << ",\"shared_weighted_good_lost\":" << shared_weighted.good.lost
+              << ",\"shared_weighted_good_p99_ms\":" << Percentile(shared_weighted.good.ms, 0.99)
               << ",\"many_queries\":" << many.ms.size() << ",\"many_lost\":" << many.lost
               << ",\"many_p99_ms\":" << Percentile(many.ms, 0.99)
               << ",\"storm_clients\":" << storm_clients << ",\"storm_points\":" << storm_points
@@ -498,38 +620,41 @@ int main(int argc, char** argv) {
               << ",\"storm_rss_kept_mb\":" << storm.kept_mb
               << ",\"service_alive\":" << (alive ? "true" : "false") << "}\n";
   } else {
-    std::cout << std::fixed << std::setprecision(1) << "huge request, " << huge_points
-              << " points (" << huge_points * 32 / 1e6 << " MB), written after " << written_after_s
-              << " s:\n"
-              << "  next good query " << (good_ok ? "answered" : "FAILED") << " in "
-              << good_after_huge_ms << " ms (goal: within 100 ms)\n"
-              << "  monocled RSS growth " << huge_rss_growth << " MB (goal <= 20)\n"
-              << "flood of unique-id requests, " << flood_seconds << " s, " << flood_sent
-              << " sent:\n"
-              << "  good client: " << during_flood.ms.size() << " answered, " << during_flood.lost
-              << " lost, p50 " << std::setprecision(2) << Percentile(during_flood.ms, 0.5)
-              << " ms, p99 " << Percentile(during_flood.ms, 0.99)
-              << " ms (goal: 0 lost, p99 <= 20 ms)\n"
-              << std::setprecision(1) << "  monocled RSS growth " << flood_rss_growth
-              << " MB (goal <= 50)\n"
-              << "flood under one client id, " << flood_seconds << " s, " << same_id.sent
-              << " sent, " << same_id.answered << " answered (limit 5000/s):\n"
-              << "  good client: " << same_id.good.ms.size() << " answered, " << same_id.good.lost
-              << " lost, p50 " << std::setprecision(2) << Percentile(same_id.good.ms, 0.5)
-              << " ms, p99 " << Percentile(same_id.good.ms, 0.99)
-              << " ms (goal: 0 lost, p99 <= 20 ms)\n"
-              << std::setprecision(1) << "  monocled RSS growth " << same_id.rss_growth
-              << " MB (goal <= 50)\n"
-              << FairnessLine("one participant, 64 request writers", writers64)
-              << FairnessLine("8 flooding participants", participants8) << clients << " clients x "
-              << queries << " queries: " << many.ms.size() << " answered, " << many.lost
-              << " lost, p50 " << std::setprecision(2) << Percentile(many.ms, 0.5) << " ms, p99 "
-              << Percentile(many.ms, 0.99) << " ms (goal: 0 lost, p99 <= 20 ms)\n"
-              << storm_clients << " clients x " << storm_points
-              << " points at once: " << storm.answered << " answered; monocled RSS up "
-              << std::setprecision(1) << storm.peak_growth_mb << " MB at the peak, "
-              << storm.kept_mb << " MB kept once quiet (goal <= 50)\n"
-              << "monocled " << (alive ? "still running" : "DIED") << "\n";
+    std::cout
+        << std::fixed << std::setprecision(1) << "huge request, " << huge_points << " points ("
+        << huge_points * 32 / 1e6 << " MB), written after " << written_after_s << " s:\n"
+        << "  next good query " << (good_ok ? "answered" : "FAILED") << " in " << good_after_huge_ms
+        << " ms (goal: within 100 ms)\n"
+        << "  monocled RSS growth " << huge_rss_growth << " MB (goal <= 20)\n"
+        << "flood of unique-id requests, " << flood_seconds << " s, " << flood_sent << " sent:\n"
+        << "  good client: " << during_flood.ms.size() << " answered, " << during_flood.lost
+        << " lost, p50 " << std::setprecision(2) << Percentile(during_flood.ms, 0.5) << " ms, p99 "
+        << Percentile(during_flood.ms, 0.99) << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+        << std::setprecision(1) << "  monocled RSS growth " << flood_rss_growth
+        << " MB (goal <= 50)\n"
+        << "flood under one client id, " << flood_seconds << " s, " << same_id.sent << " sent, "
+        << same_id.answered << " answered (limit 5000/s):\n"
+        << "  good client: " << same_id.good.ms.size() << " answered, " << same_id.good.lost
+        << " lost, p50 " << std::setprecision(2) << Percentile(same_id.good.ms, 0.5) << " ms, p99 "
+        << Percentile(same_id.good.ms, 0.99) << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+        << std::setprecision(1) << "  monocled RSS growth " << same_id.rss_growth
+        << " MB (goal <= 50)\n"
+        << FairnessLine("one participant, 64 request writers", writers64)
+        << FairnessLine("8 flooding participants", participants8)
+        << (co_located ? FairnessLine("8 flooding participants on monocled's CPUs, equal weight "
+                                      "(the host's scheduler decides)",
+                                      shared_equal, "") +
+                             FairnessLine("8 flooding participants on monocled's CPUs, monocled "
+                                          "weighted above them (flooders at nice 19)",
+                                          shared_weighted)
+                       : std::string())
+        << clients << " clients x " << queries << " queries: " << many.ms.size() << " answered, "
+        << many.lost << " lost, p50 " << std::setprecision(2) << Percentile(many.ms, 0.5)
+        << " ms, p99 " << Percentile(many.ms, 0.99) << " ms (goal: 0 lost, p99 <= 20 ms)\n"
+        << storm_clients << " clients x " << storm_points << " points at once: " << storm.answered
+        << " answered; monocled RSS up " << std::setprecision(1) << storm.peak_growth_mb
+        << " MB at the peak, " << storm.kept_mb << " MB kept once quiet (goal <= 50)\n"
+        << "monocled " << (alive ? "still running" : "DIED") << "\n";
   }
   // The run's directory (monocled's state, config and logs) is kept only when monocled died,
   // to read why; every run made one before, and CI runs it each time.

@@ -29,6 +29,10 @@ constexpr milliseconds kDiscoveryGrace{1000};
 constexpr milliseconds kStatusStale{10000};
 // How long a camera once found is taken to stay where it was.
 constexpr milliseconds kResolvedFresh{1000};
+// Why data on a camera's topic from a participant other than its service's is not taken.
+constexpr const char* kNotTheServingParticipant =
+    "from a participant that does not serve it (spoofed, or another service misconfigured; on "
+    "a network you do not control, use DDS Security)";
 
 ClientError DdsFailure(const Error& e) {
   if (e.code == ErrorCode::kPermissionDenied) return {ClientError::Code::kNotPermitted, e.message};
@@ -383,7 +387,14 @@ struct Client::Impl {
     if (!service->WaitForService(left())) return NoService(options.domain, options.timeout, what);
     // Replies from any other participant (a spoofer answering first) are not the camera's.
     service->TrustOnly(directory->ServingSource(ns));
+    const uint64_t foreign_before = service->foreign_replies();
     auto reply = service->template Call<ClientResult<Out>>(request, left(), convert, resend_after);
+    if (const uint64_t foreign = service->foreign_replies() - foreign_before;
+        foreign > 0 && options.on_ignored) {
+      options.on_ignored("camera '" + Shown(camera) + "' (" + ns + "): " + std::to_string(foreign) +
+                         " " + service_name + " replies not taken: they came " +
+                         kNotTheServingParticipant);
+    }
     if (!reply) return DdsFailure(reply.error());
     if (!*reply) return NoService(options.domain, options.timeout, what);
     return std::move(**reply);
@@ -518,6 +529,7 @@ ClientResult<std::vector<Calibration>> Client::calibrations() {
   const auto deadline = Clock::now() + impl_->options.timeout;
   std::optional<Clock::time_point> first;
   dds::WriterSources sources(reader->reader());
+  std::map<std::string, std::pair<std::string, int>> ignored;  // namespace -> camera, count
   while (Clock::now() < deadline && (!first || Clock::now() - *first < 3 * kPoll)) {
     auto taken = reader->Take<std::pair<Calibration, std::string>>(
         kPoll, [&](const monocle_msgs_msg_dds__Calibration_& s, const dds_sample_info_t& info) {
@@ -529,10 +541,21 @@ ClientResult<std::vector<Calibration>> Client::calibrations() {
     for (auto& [c, source] : *taken) {
       // Only the service that serves the camera speaks for its calibration.
       const std::string serving = impl_->directory->ServingSource(c.ros_namespace);
-      if (!serving.empty() && source != serving) continue;
+      if (!serving.empty() && source != serving) {
+        auto& [camera_id, count] = ignored[c.ros_namespace];
+        camera_id = c.camera_id;
+        ++count;
+        continue;
+      }
       auto& kept = by_namespace[c.ros_namespace];
       if (c.revision >= kept.revision) kept = std::move(c);
     }
+  }
+  for (const auto& [ns, why] : ignored) {
+    if (impl_->options.on_ignored)
+      impl_->options.on_ignored("camera '" + why.first + "' (" + ns +
+                                "): " + std::to_string(why.second) +
+                                " calibrations not taken: they came " + kNotTheServingParticipant);
   }
   if (by_namespace.empty())
     return NoService(impl_->options.domain, impl_->options.timeout, "calibration");
@@ -622,9 +645,7 @@ class PoseReaders {
       } else if (r.serving.empty()) {
         why = "no service says it serves it now (stopped, or not heard from yet)";
       } else {
-        why =
-            "they came from a participant that does not serve it (spoofed, or another "
-            "service misconfigured; on a network you do not control, use DDS Security)";
+        why = std::string("they came ") + kNotTheServingParticipant;
       }
       if (on_ignored)
         on_ignored("camera '" + r.camera_id + "' (" + ns + "): " + std::to_string(r.ignored) +

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <iostream>
 
 #include "client/cli/commands.h"
 #include "client/cli/live.h"
@@ -25,6 +26,10 @@ std::optional<Client> OpenClient(const LiveOptions& live, int* exit_status) {
   } else if (const char* env = std::getenv("MONOCLE_SECURITY"); env != nullptr && *env != 0) {
     options.security_dir = env;
   }
+  // Data a stranger put on a camera's topics is never shown as the camera's; the user is told.
+  options.on_ignored = [](const std::string& what) {
+    std::cerr << "monocle: warning: " << what << std::endl;
+  };
   auto client = Client::open(options);
   if (!client) {
     *exit_status = Fail(client.error());

@@ -52,6 +52,16 @@ Status CheckSecurityDirectory(const std::string& dir) {
   return Ok{};
 }
 
+bool UsesSecurity(dds_entity_t participant) {
+  dds_qos_t* qos = dds_create_qos();
+  char* value = nullptr;
+  const bool secure = dds_get_qos(participant, qos) == DDS_RETCODE_OK &&
+                      dds_qget_prop(qos, "dds.sec.auth.library.path", &value);
+  dds_free(value);
+  dds_delete_qos(qos);
+  return secure;
+}
+
 Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain,
                                                   const std::string& security_dir,
                                                   size_t max_sample_bytes) {

@@ -23,6 +23,9 @@ struct EndpointQos {
   // The reader keeps only samples `accept(sample, accept_arg)` says yes to, decided on
   // arrival, before they take a place in its history (a Cyclone topic filter).
   bool (*accept)(const void* sample, void* arg) = nullptr;
+  // Or decided on who sent it (info->publication_handle, the writer), without the sample
+  // being read at all: the cheapest way to refuse a sample.
+  bool (*accept_from)(const dds_sample_info_t* info, void* arg) = nullptr;
   void* accept_arg = nullptr;
 };
 
@@ -40,6 +43,15 @@ Result<std::shared_ptr<Entity>> CreateParticipant(dds_domainid_t domain,
                                                   size_t max_sample_bytes = 0);
 // Whether `dir` holds an identity's six files; the error names the first missing one.
 Status CheckSecurityDirectory(const std::string& dir);
+// Whether `participant` runs DDS Security (was created with an identity).
+bool UsesSecurity(dds_entity_t participant);
+// The authenticated identity a participant GUID (hex, as WriterSources gives it) carries
+// under DDS Security: its first 6 bytes are a hash of the identity certificate's subject
+// name, which the builtin authentication plugin checks in the handshake (DDS Security 1.1,
+// 9.3.2.5.2, "adjusted participant GUID"). Every participant of one identity shares it.
+inline std::string IdentityOfParticipant(const std::string& participant_guid_hex) {
+  return participant_guid_hex.substr(0, 12);
+}
 
 class Entity {
  public:
@@ -113,9 +125,17 @@ class Endpoint {
     if (reader) {
       // The topic entity is this endpoint's own (dds_create_topic makes a new one each call),
       // so its filter applies to this reader only.
-      if (eq.accept != nullptr) {
-        if (const dds_return_t rc = dds_set_topic_filter_and_arg(topic, eq.accept, eq.accept_arg);
-            rc < 0) {
+      if (eq.accept != nullptr || eq.accept_from != nullptr) {
+        dds_topic_filter filter{};
+        if (eq.accept_from != nullptr) {
+          filter.mode = DDS_TOPIC_FILTER_SAMPLEINFO_ARG;
+          filter.f.sampleinfo_arg = eq.accept_from;
+        } else {
+          filter.mode = DDS_TOPIC_FILTER_SAMPLE_ARG;
+          filter.f.sample_arg = eq.accept;
+        }
+        filter.arg = eq.accept_arg;
+        if (const dds_return_t rc = dds_set_topic_filter_extended(topic, &filter); rc < 0) {
           dds_delete_qos(qos);
           return DdsError(std::string("cannot filter topic ") + topic_name, rc);
         }

@@ -34,10 +34,11 @@ class ServiceServer {
   static Result<ServiceServer> Open(const std::shared_ptr<Entity>& participant,
                                     const dds_topic_descriptor_t* request_type,
                                     const dds_topic_descriptor_t* reply_type, const std::string& ns,
-                                    const std::string& service) {
+                                    const std::string& service,
+                                    EndpointQos request_qos = wire::kRequestReaderQos) {
     auto requests =
         Endpoint<Request>::Open(participant, request_type, wire::RequestTopic(ns, service).c_str(),
-                                false, true, wire::kRequestReaderQos);
+                                false, true, request_qos);
     if (!requests) return requests.error();
     auto replies =
         Endpoint<Reply>::Open(participant, reply_type, wire::ReplyTopic(ns, service).c_str(), true,

@@ -48,7 +48,7 @@ class RequestServer {
     Value value;
     dds::RequestHeader header;
     Server* server = nullptr;  // to reply on
-    std::string client;        // the participant that sent it (dds::WriterSources)
+    std::string client;        // who sent it: its participant, or its identity under DDS Security
   };
   using Parse = std::function<Value(const Request&)>;
   using Handle = std::function<void(Incoming&&)>;
@@ -57,7 +57,9 @@ class RequestServer {
 
   static constexpr std::chrono::milliseconds kTick{100};
   // A client is a participant: all request writers of one participant share one budget and
-  // one queue, so a client gains nothing by opening more writers.
+  // one queue, so a client gains nothing by opening more writers. With DDS Security a client
+  // is an authenticated identity: all its participants share one budget and one queue, so a
+  // client gains nothing by opening more participants either.
   //
   // Requests waiting for the server's thread, per client and in all; beyond these the
   // client's oldest is dropped (as a DDS keep-last history would), so a flood can neither
@@ -80,8 +82,8 @@ class RequestServer {
   // kMinRequestsPerSecond each): a flood gets its share and no more, from any number of
   // participants, so it cannot starve the others.
   static constexpr double kMaxRequestsPerSecond = 5000;
-  static constexpr double kServiceRequestsPerSecond = 10000;
-  static constexpr double kMinRequestsPerSecond = 400;
+  static constexpr double kServiceRequestsPerSecond = 4000;
+  static constexpr double kMinRequestsPerSecond = 100;
   static constexpr double kBurst = 500;
 
   // `cameras` must outlive the server. `handle` may run on two threads at once.
@@ -91,19 +93,23 @@ class RequestServer {
       const dds_topic_descriptor_t* reply_type, const std::string& service, Parse parse,
       Handle handle, Quick quick = nullptr, Tick tick = nullptr) {
     std::unique_ptr<RequestServer> s(new RequestServer());
+    s->by_identity_ = dds::UsesSecurity(participant->get());
     s->parse_ = std::move(parse);
     s->handle_ = std::move(handle);
     s->quick_ = std::move(quick);
     s->tick_ = std::move(tick);
     s->thread_ = std::thread([self = s.get()] { self->Run(); });
     for (const CameraSetup* cam : cameras) {
-      auto server =
-          Server::Open(participant, request_type, reply_type, cam->ros_namespace, service);
+      auto pc = std::make_unique<PerCamera>(PerCamera{cam, nullptr, s.get(), nullptr});
+      dds::EndpointQos request_qos = wire::kRequestReaderQos;
+      request_qos.accept_from = &RequestServer::OnArrival;
+      request_qos.accept_arg = pc.get();
+      auto server = Server::Open(participant, request_type, reply_type, cam->ros_namespace, service,
+                                 request_qos);
       if (!server) return server.error();
-      auto opened = std::make_unique<Server>(std::move(server).value());
-      auto sources = std::make_unique<dds::WriterSources>(opened->request_reader());
-      s->servers_.push_back(std::make_unique<PerCamera>(
-          PerCamera{cam, std::move(opened), s.get(), std::move(sources)}));
+      pc->server = std::make_unique<Server>(std::move(server).value());
+      pc->sources = std::make_unique<dds::WriterSources>(pc->server->request_reader());
+      s->servers_.push_back(std::move(pc));
       if (auto l = dds::SetDataAvailableListener(s->servers_.back()->server->request_reader(),
                                                  &RequestServer::OnDataAvailable,
                                                  s->servers_.back().get());
@@ -130,6 +136,16 @@ class RequestServer {
   RequestServer& operator=(const RequestServer&) = delete;
 
  private:
+  struct Client {
+    uint64_t guid = 0;   // its client id
+    int64_t seq = 0;     // its newest request
+    std::string client;  // who it belongs to (ClientOf)
+  };
+  // A client's budget: requests it may still send now.
+  struct Budget {
+    double tokens = 0;
+    std::chrono::steady_clock::time_point refilled, heard;
+  };
   struct PerCamera {
     const CameraSetup* camera;
     std::unique_ptr<Server> server;
@@ -137,6 +153,45 @@ class RequestServer {
     std::unique_ptr<dds::WriterSources> sources;  // of its requests; under ids_mutex_
   };
   RequestServer() = default;
+
+  // Cyclone's topic filter, on its receive thread as a request arrives, before it is read or
+  // takes a place in the reader's history: a known client with no budget left is refused here,
+  // at the least cost (a flood's requests, nearly all of them). Admit charges and decides the
+  // rest. Runs under the reader's history lock: it must not call into DDS.
+  static bool OnArrival(const dds_sample_info_t* info, void* arg) {
+    auto* pc = static_cast<PerCamera*>(arg);
+    return pc->owner->HasBudget(*pc, info->publication_handle);
+  }
+
+  bool HasBudget(const PerCamera& pc, dds_instance_handle_t publication) {
+    const auto now = std::chrono::steady_clock::now();
+    {
+      std::lock_guard<std::mutex> lock(ids_mutex_);
+      const auto writer = clients_.find(publication);
+      if (writer == clients_.end()) return true;  // not yet known: Admit learns it
+      const auto budget = budgets_.find(writer->second.client);
+      if (budget == budgets_.end()) return true;
+      Refill(budget->second, now);
+      if (budget->second.tokens >= 1) return true;
+    }
+    WarnOverRate(pc, now);
+    return false;
+  }
+
+  // Under ids_mutex_: the tokens a client's budget has earned since it was last refilled.
+  void Refill(Budget& b, std::chrono::steady_clock::time_point now) {
+    b.tokens = std::min(
+        kBurst, b.tokens + ShareNow(now) * std::chrono::duration<double>(now - b.refilled).count());
+    b.refilled = now;
+  }
+
+  void WarnOverRate(const PerCamera& pc, std::chrono::steady_clock::time_point now) {
+    Warn(now, [&] {
+      return pc.camera->id + ": a client sends more than its share of requests (" +
+             std::to_string(static_cast<int>(kMaxRequestsPerSecond)) +
+             " a second, less while many clients ask); the excess is dropped";
+    });
+  }
 
   static void OnDataAvailable(dds_entity_t, void* arg) {
     auto* pc = static_cast<PerCamera*>(arg);
@@ -187,18 +242,15 @@ class RequestServer {
       // Bounded: a long-running service forgets old writers and learns them again.
       if (clients_.size() > kMaxKnownWriters) clients_.clear();
       if (budgets_.size() > kMaxKnownWriters) budgets_.clear();
-      const auto [it, first] = clients_.try_emplace(h.publication, Client{h.guid, h.seq});
+      const auto [it, first] = clients_.try_emplace(h.publication, Client{h.guid, h.seq, ""});
       Client& c = it->second;
-      *client = pc.sources->Of(h.publication);
-      if (client->empty()) *client = "writer " + std::to_string(h.publication);
+      if (c.client.empty() || c.client.rfind("writer ", 0) == 0) c.client = ClientOf(pc, h);
+      *client = c.client;
       if (!first && c.guid != h.guid) {
         verdict = kChangedId;
       } else {
         Budget& b = budgets_.try_emplace(*client, Budget{kBurst, now, now}).first->second;
-        b.tokens = std::min(
-            kBurst,
-            b.tokens + ShareNow(now) * std::chrono::duration<double>(now - b.refilled).count());
-        b.refilled = now;
+        Refill(b, now);
         b.heard = now;
         if (b.tokens < 1) {
           verdict = kOverRate;
@@ -213,16 +265,23 @@ class RequestServer {
         }
       }
     }
-    Warn(now, [&] {
-      return pc.camera->id +
-             (verdict == kChangedId
-                  ? ": a request writer changed its client id (guid) between requests; "
-                    "its requests under a new id are dropped"
-                  : ": a client sends more than its share of requests (" +
-                        std::to_string(static_cast<int>(kMaxRequestsPerSecond)) +
-                        " a second, less while many clients ask); the excess is dropped");
-    });
+    if (verdict == kOverRate) {
+      WarnOverRate(pc, now);
+    } else {
+      Warn(now, [&] {
+        return pc.camera->id +
+               ": a request writer changed its client id (guid) between requests; its requests "
+               "under a new id are dropped";
+      });
+    }
     return Admission::kDrop;
+  }
+
+  // Under ids_mutex_: who sent a request, the key of its budget and queue.
+  std::string ClientOf(PerCamera& pc, const dds::RequestHeader& h) {
+    const std::string& participant = pc.sources->Of(h.publication);
+    if (participant.empty()) return "writer " + std::to_string(h.publication);
+    return by_identity_ ? "identity " + dds::IdentityOfParticipant(participant) : participant;
   }
 
   // Under ids_mutex_: each client's rate now, requests a second.
@@ -351,6 +410,7 @@ class RequestServer {
   }
 
   std::vector<std::unique_ptr<PerCamera>> servers_;
+  bool by_identity_ = false;  // clients are identities (DDS Security), not participants
   Parse parse_;
   Handle handle_;
   Quick quick_;
@@ -364,17 +424,8 @@ class RequestServer {
   std::deque<std::pair<std::chrono::steady_clock::time_point, Incoming>> parked_;
   std::mutex ids_mutex_;
   // Request writer -> its client id and the last sequence number taken from it.
-  struct Client {
-    uint64_t guid = 0;  // its client id
-    int64_t seq = 0;    // its newest request
-  };
   std::map<dds_instance_handle_t, Client> clients_;  // by request writer
-  // A client's (participant's) budget: requests it may still send now.
-  struct Budget {
-    double tokens = 0;
-    std::chrono::steady_clock::time_point refilled, heard;
-  };
-  std::map<std::string, Budget> budgets_;  // by participant
+  std::map<std::string, Budget> budgets_;            // by client (ClientOf)
   double share_ = kMaxRequestsPerSecond;
   std::chrono::steady_clock::time_point share_counted_{};
   std::mutex warn_mutex_;

@@ -91,6 +91,10 @@ class MONOCLE_CLIENT_API Client {
     // A secured service (DDS Security): this client's identity directory of the keystore
     // `monocle security init` made (e.g. KEYSTORE/robot_ui). Empty: plain DDS.
     std::string security_dir{};
+    // Called, in words, when data on a camera's topics was not taken as the camera's: a reply
+    // or a calibration from a participant that does not serve the camera (spoofed, or a
+    // second service misconfigured). Null: not reported. (subscribe_poses has its own.)
+    std::function<void(const std::string&)> on_ignored{};
   };
 
   static ClientResult<Client> open(Options options);
