@@ -180,11 +180,16 @@ std::string Clashes(const std::vector<Directory::Entry>& entries) {
   std::string out;
   for (const auto& [ns, by_source] : serving) {
     if (by_source.size() < 2) continue;
+    // A claimant that copies the service id is told apart by its participant.
+    std::set<std::string> ids;
+    for (const auto& [source, service] : by_source) ids.insert(service);
+    const bool same_ids = ids.size() < by_source.size();
     out += (out.empty() ? "" : "; ") + ns + " is served by " + std::to_string(by_source.size()) +
            " monocled (";
     bool first = true;
     for (const auto& [source, service] : by_source) {
       out += (first ? "" : ", ") + service;
+      if (same_ids && source != service) out += " from participant " + source;
       first = false;
     }
     out += ")";
@@ -236,7 +241,7 @@ const char* ToString(CameraState state) {
 
 std::string DuplicateCameras(const std::vector<CameraStatus>& cameras) {
   std::vector<Directory::Entry> entries;
-  for (const auto& c : cameras) entries.push_back({c, Clock::now(), "", 0});
+  for (const auto& c : cameras) entries.push_back({c, Clock::now(), c.participant, 0});
   return Clashes(entries);
 }
 
@@ -513,7 +518,10 @@ ClientResult<std::vector<CameraStatus>> Client::status() {
   }
   if (entries.empty()) return NoService(impl_->options.domain, impl_->options.timeout, "status");
   std::vector<CameraStatus> out;
-  for (auto& e : entries) out.push_back(std::move(e.status));
+  for (auto& e : entries) {
+    e.status.participant = e.source;
+    out.push_back(std::move(e.status));
+  }
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
     return std::tie(a.ros_namespace, a.service) < std::tie(b.ros_namespace, b.service);
   });

@@ -18,7 +18,8 @@ constexpr const char* kStatusAbout =
 role, state (streaming, reconnecting, stopped), frames per second, frames received, dropped
 (sent by the camera, never received), skipped (not processed because processing was busy),
 processing latency (frame received -> result published, median over the status period, ms),
-and the last error. Exit status 1 when a camera has failed (a configuration error, e.g. a
+and the last error (with --json also the DDS participant each status came from, which tells
+apart two services giving one service id). Exit status 1 when a camera has failed (a configuration error, e.g. a
 device that is no camera: it is not retried) or two monocled serve the same namespace.)";
 
 proto::StatusOutput ToOutput(const CameraStatus& s) {
@@ -37,6 +38,7 @@ proto::StatusOutput ToOutput(const CameraStatus& s) {
   out.set_stamp_ns(s.stamp_ns);
   out.set_ros_namespace(s.ros_namespace);
   out.set_service(s.service);
+  out.set_participant(s.participant);
   return out;
 }
 

@@ -90,6 +90,9 @@ struct CameraStatus {
   std::string camera_id, device, role;  // role: "corner", "floor" or "corner+floor"
   std::string ros_namespace;            // its topics and services, e.g. /monocle/sim_floor
   std::string service;                  // the monocled that owns it: host/pid
+  // The DDS participant its status came from (GUID, hex; empty if unknown): two services
+  // claiming one namespace differ here even when one copies the other's service id.
+  std::string participant;
   CameraState state = CameraState::kReconnecting;
   double fps = 0;         // frames per second over the last status period
   uint64_t frames = 0;    // received since the service started

@@ -146,6 +146,31 @@ TEST_F(SpoofingTest, AFakeStatusIsAConflictAndTheServiceIsCleanOnceItLeaves) {
       << testing::ReadFile(dir_ / "monocled.log");
 }
 
+// A fake status that copies the real service's id: `monocle status` still sees two services
+// on the namespace (they are told apart by participant, not by the id they give), names both
+// participants and exits 1.
+TEST_F(SpoofingTest, AStatusCopyingTheServiceIdIsStillAConflictNamedByParticipant) {
+  const auto real = RealStatus("sim-floor");
+  ASSERT_TRUE(real.has_value());
+  ASSERT_FALSE(real->participant.empty());
+  auto spoofer = Spoof({"status", "/monocle/sim_floor", "sim-floor", real->service, "4"});
+  testing::ProcessResult status;
+  for (int i = 0; i < 30; ++i) {
+    std::this_thread::sleep_for(200ms);
+    status = RunMonocle(dir_, "status --json --domain " + std::to_string(kDomain));
+    if (status.err.find("is served by 2 monocled") != std::string::npos) break;
+  }
+  EXPECT_EQ(status.exit_code, 1) << status.out << status.err;
+  EXPECT_NE(status.err.find("/monocle/sim_floor is served by 2 monocled (" + real->service +
+                            " from participant "),
+            std::string::npos)
+      << status.err;
+  EXPECT_NE(status.err.find(" from participant " + real->participant), std::string::npos)
+      << status.err;
+  EXPECT_NE(status.out.find("\"participant\":\"" + real->participant + "\""), std::string::npos)
+      << status.out;
+}
+
 // A participant answering every point query with 42 m, and one publishing a calibration of the
 // floor camera far ahead of the service's revision: the client takes neither as the camera's.
 TEST_F(SpoofingTest, FakeRepliesAndCalibrationsAreNotTheCameras) {
