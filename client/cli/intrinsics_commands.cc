@@ -26,7 +26,10 @@ constexpr const char* kAbout =
     R"(Calibrates focal lengths (fx, fy, pixels), principal point (cx, cy, pixels) and lens
 distortion (OpenCV's model) from images of a chessboard seen from different places and
 angles, and reports how sure it is: each parameter with its 1 sigma (the full covariance
-goes into CAL.pbtxt, and floor calibrations and measurements made with it include it).
+goes into CAL.pbtxt, and floor calibrations and measurements made with it include it). The
+1 sigma counts what independent corner noise does not: with 5 views or more, each
+parameter's analytic 1 sigma is raised to the spread of the fits that leave one view out
+(jackknife) where that is larger; the JSON has both.
 
 Good views: 10-20 images, the board near every corner and edge of the image and in its
 middle, tilted 20-45 degrees in different directions, sharp and evenly lit.)";
@@ -177,6 +180,15 @@ Status WriteOverlays(const std::string& dir, const std::vector<IntrinsicView>& v
   return WriteImage(dir + "/coverage.png", CoveragePicture(size, views, cal));
 }
 
+void SetSigma(const Eigen::Matrix<double, kNumIntrinsicParams, 1>& sigma,
+              proto::IntrinsicsSigma* s) {
+  s->set_fx(sigma[0]);
+  s->set_fy(sigma[1]);
+  s->set_cx(sigma[2]);
+  s->set_cy(sigma[3]);
+  for (int i = 0; i < 5; ++i) s->add_distortion(sigma[4 + i]);
+}
+
 // The result as the JSON output has it.
 void FillOutput(const IntrinsicCalibration& cal, const std::string& written, bool floor_removed,
                 proto::IntrinsicsOutput* out) {
@@ -188,15 +200,13 @@ void FillOutput(const IntrinsicCalibration& cal, const std::string& written, boo
   out->set_fy(k.fy);
   out->set_cx(k.cx);
   out->set_cy(k.cy);
-  auto* s = out->mutable_sigma();
-  s->set_fx(sigma[0]);
-  s->set_fy(sigma[1]);
-  s->set_cx(sigma[2]);
-  s->set_cy(sigma[3]);
-  for (int i = 0; i < 5; ++i) {
-    out->add_distortion(k.distortion[i]);
-    s->add_distortion(sigma[4 + i]);
-  }
+  for (int i = 0; i < 5; ++i) out->add_distortion(k.distortion[i]);
+  SetSigma(sigma, out->mutable_sigma());
+  SetSigma(cal.analytic_covariance.diagonal().cwiseMax(0).cwiseSqrt(),
+           out->mutable_analytic_sigma());
+  SetSigma(cal.jackknife_covariance.diagonal().cwiseMax(0).cwiseSqrt(),
+           out->mutable_jackknife_sigma());
+  out->set_covariance_method(cal.covariance_method);
   out->set_model(ToString(cal.model));
   out->set_model_reason(cal.model_reason);
   out->set_rms_px(cal.rms_px);
@@ -261,6 +271,7 @@ void PrintText(const IntrinsicCalibration& cal, size_t found, size_t images,
     }
   }
   std::cout << "model       " << cal.model_reason << "\n"
+            << "1σ          " << cal.covariance_method << "\n"
             << std::setprecision(4) << "rms         " << cal.rms_px
             << " px (one corner coordinate: 1σ " << cal.corner_sigma_px << " px)\n"
             << std::setprecision(0) << "coverage    " << 100 * cal.coverage

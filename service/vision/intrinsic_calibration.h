@@ -58,7 +58,17 @@ struct ModelTrial {
 
 struct IntrinsicCalibration {
   CameraIntrinsics intrinsics;
-  IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();  // camera_model.h's order
+  // What measurements use (camera_model.h's order): the analytic covariance, each parameter's
+  // variance widened to the views' own spread where that is larger (covariance_method says
+  // which and why). Both figures are kept.
+  IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
+  // Gauss-Newton: assumes every corner's error independent and the lens model exact.
+  IntrinsicsCovariance analytic_covariance = IntrinsicsCovariance::Zero();
+  // Leave-one-view-out jackknife: the spread of the parameters when each view is left out in
+  // turn, which counts errors shared by a view's corners (a bent board, a lens the model does
+  // not fit there). Zero with fewer than kMinJackknifeViews views.
+  IntrinsicsCovariance jackknife_covariance = IntrinsicsCovariance::Zero();
+  std::string covariance_method;
   DistortionModel model = DistortionModel::kK1K2P1P2;
   std::string model_reason;        // which model and why, for people
   std::vector<ModelTrial> trials;  // every model fitted (one unless kAuto)
@@ -75,6 +85,9 @@ struct IntrinsicCalibration {
     return covariance.diagonal().cwiseMax(0).cwiseSqrt();
   }
 };
+
+// The jackknife needs this many views to say anything about their spread.
+inline constexpr size_t kMinJackknifeViews = 5;
 
 // Needs at least 3 views, all of `image_size`.
 // OpenCV's camera matrix and distortion coefficients (k1 k2 p1 p2 [k3 ...]) as monocle's

@@ -349,6 +349,23 @@ TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViewsWithItsSigma) {
   }
   EXPECT_TRUE(std::filesystem::exists(dir / "overlay/coverage.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "overlay/view-07.png"));
+  // The JSON keeps both figures behind the 1 sigma: the analytic one and the jackknife's
+  // (12 views); the 1 sigma reported, and written, is never below the analytic one.
+  proto::IntrinsicsOutput json;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(r.out, &json).ok()) << r.out;
+  EXPECT_NE(json.covariance_method().find("jackknife"), std::string::npos);
+  const double reported[4] = {json.sigma().fx(), json.sigma().fy(), json.sigma().cx(),
+                              json.sigma().cy()};
+  const double analytic[4] = {json.analytic_sigma().fx(), json.analytic_sigma().fy(),
+                              json.analytic_sigma().cx(), json.analytic_sigma().cy()};
+  const double jackknife[4] = {json.jackknife_sigma().fx(), json.jackknife_sigma().fy(),
+                               json.jackknife_sigma().cx(), json.jackknife_sigma().cy()};
+  for (int p = 0; p < 4; ++p) {
+    EXPECT_GT(analytic[p], 0) << kIntrinsicParamNames[p];
+    EXPECT_GT(jackknife[p], 0) << kIntrinsicParamNames[p];
+    EXPECT_GE(reported[p], analytic[p]) << kIntrinsicParamNames[p];
+    EXPECT_NEAR(reported[p], std::sqrt(cov(p, p)), 1e-4 * reported[p]) << kIntrinsicParamNames[p];
+  }
 
   // Too few images is a usage error; a bad model name too.
   r = RunMonocle(dir, "intrinsics calibrate --board 9x6 --square 0.04 --out " + dir / "x.pbtxt" +
