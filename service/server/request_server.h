@@ -137,9 +137,10 @@ class RequestServer {
 
  private:
   struct Client {
-    uint64_t guid = 0;   // its client id
-    int64_t seq = 0;     // its newest request
-    std::string client;  // who it belongs to (ClientOf)
+    uint64_t guid = 0;        // its client id
+    int64_t seq = 0;          // its newest request
+    std::string client;       // who it belongs to (ClientOf)
+    bool changed_id = false;  // a flood of made-up clients: refused as it arrives
   };
   // A client's budget: requests it may still send now.
   struct Budget {
@@ -169,6 +170,7 @@ class RequestServer {
       std::lock_guard<std::mutex> lock(ids_mutex_);
       const auto writer = clients_.find(publication);
       if (writer == clients_.end()) return true;  // not yet known: Admit learns it
+      if (writer->second.changed_id) return false;
       const auto budget = budgets_.find(writer->second.client);
       if (budget == budgets_.end()) return true;
       Refill(budget->second, now);
@@ -224,10 +226,10 @@ class RequestServer {
   // and its reply would reach nobody in particular: dropped. A ROS 2 client keeps one client
   // id for its request writer (rmw_cyclonedds_cpp: the writer's own id; monocle's client
   // too), so a writer whose id changes between requests is not a client but a flood of
-  // made-up ones: its requests after the first id are dropped before any work, and no reply
-  // (which every client's reply reader would receive and have to discard) is sent. A writer
-  // over its client's share of the rate is dropped too. All logged at most once a second.
-  // `client` is set to the participant that sent it.
+  // made-up ones: its requests after the first id are dropped before any work (from then on
+  // as they arrive, OnArrival), and no reply (which every client's reply reader would
+  // receive and have to discard) is sent. A writer over its client's share of the rate is
+  // dropped too. All logged at most once a second. `client` is set to who sent it (ClientOf).
   enum class Admission { kNow, kDrop };
   Admission Admit(PerCamera& pc, const dds::RequestHeader& h, std::string* client) {
     const auto now = std::chrono::steady_clock::now();
@@ -248,6 +250,7 @@ class RequestServer {
       *client = c.client;
       if (!first && c.guid != h.guid) {
         verdict = kChangedId;
+        c.changed_id = true;
       } else {
         Budget& b = budgets_.try_emplace(*client, Budget{kBurst, now, now}).first->second;
         Refill(b, now);
