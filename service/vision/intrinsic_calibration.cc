@@ -243,8 +243,8 @@ double RatioNoiseLimit(double dof) {
 
 // The analytic covariance with each free parameter's variance raised to the jackknife's where
 // that is larger than the jackknife's own noise explains (D A D, D diagonal: still a
-// covariance, the correlations kept). With few views the jackknife is noisy: taken
-// whenever larger, it widened honest sigmas on rendered views by a fifth.
+// covariance, the correlations kept). The jackknife is noisy with few views and errs large:
+// a ratio within its noise is no evidence against the analytic figure.
 IntrinsicsCovariance Widened(const IntrinsicsCovariance& analytic,
                              const IntrinsicsCovariance& jackknife, const std::vector<int>& free,
                              size_t views) {
@@ -421,9 +421,19 @@ Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& v
   out.intrinsics = fit.intrinsics;
   out.analytic_covariance = fit.covariance;
   out.covariance = fit.covariance;
-  if (c.object.size() >= kMinJackknifeViews && fit.covariance.allFinite()) {
-    auto jackknife = JackknifeCovariance(c, image_size, fit);
-    if (!jackknife) return jackknife.error();
+  if (c.object.size() < kMinJackknifeViews) {
+    out.covariance_method = "analytic (Gauss-Newton) only: the jackknife needs " +
+                            std::to_string(kMinJackknifeViews) + " views or more";
+  } else if (!fit.covariance.allFinite()) {
+    out.covariance_method =
+        "analytic (Gauss-Newton) only: the views leave a parameter "
+        "undetermined (its 1 sigma is infinite)";
+  } else if (auto jackknife = JackknifeCovariance(c, image_size, fit); !jackknife) {
+    // The full fit stands; only the check of its 1 sigma is missing, and the user is told.
+    out.covariance_method =
+        "analytic (Gauss-Newton) only: with one view left out the rest did not determine the "
+        "camera, so the spread between views could not be measured; add views";
+  } else {
     out.jackknife_covariance = *jackknife;
     out.covariance =
         Widened(fit.covariance, *jackknife, FreeParameters(fit.model), c.object.size());
@@ -431,9 +441,6 @@ Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& v
         "analytic (Gauss-Newton), each variance raised to the leave-one-view-out jackknife's "
         "where that is larger than chance (1 % over all parameters): errors shared by a view's "
         "corners count";
-  } else {
-    out.covariance_method = "analytic (Gauss-Newton) only: the jackknife needs " +
-                            std::to_string(kMinJackknifeViews) + " views or more";
   }
   out.model = fit.model;
   out.model_reason = ModelReason(fits, chosen, options.model == DistortionModel::kAuto);

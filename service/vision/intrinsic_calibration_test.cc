@@ -174,6 +174,33 @@ TEST(IntrinsicCalibrationTest, AWrongViewIsNamedAndCanBeDropped) {
   EXPECT_LT(dropped->rms_px, kept->rms_px);
 }
 
+// The reported covariance is the analytic one, widened to the leave-one-view-out spread
+// only where that is larger: never below the analytic 1 sigma, both kept; with fewer views
+// than the jackknife needs, the analytic one alone, and the method says so. (That the
+// widening holds on real photos is opencv_samples_test's to show.)
+TEST(IntrinsicCalibrationTest, TheSigmaIsTheAnalyticOneWidenedByTheJackknife) {
+  const auto k = TrueCamera();
+  const auto views = DetectedViews(k, 12, 9, ViewSpread::kGood);
+  ASSERT_GE(views.size(), 10u);
+  const auto cal = CalibrateIntrinsics(views, {k.width_px, k.height_px});
+  ASSERT_TRUE(cal.ok()) << cal.error();
+  EXPECT_NE(cal->covariance_method.find("jackknife"), std::string::npos);
+  for (int p = 0; p < 4; ++p) {
+    EXPECT_GT(cal->jackknife_covariance(p, p), 0) << kIntrinsicParamNames[p];
+    EXPECT_GE(cal->covariance(p, p), cal->analytic_covariance(p, p)) << kIntrinsicParamNames[p];
+    EXPECT_LE(cal->covariance(p, p),
+              std::max(cal->analytic_covariance(p, p), cal->jackknife_covariance(p, p)) * 1.000001)
+        << kIntrinsicParamNames[p];
+  }
+  const std::vector<IntrinsicView> four(views.begin(), views.begin() + 4);
+  const auto few = CalibrateIntrinsics(four, {k.width_px, k.height_px});
+  ASSERT_TRUE(few.ok()) << few.error();
+  EXPECT_NE(few->covariance_method.find("needs 5 views"), std::string::npos)
+      << few->covariance_method;
+  EXPECT_TRUE(few->jackknife_covariance.isZero());
+  EXPECT_TRUE(few->covariance.isApprox(few->analytic_covariance));
+}
+
 TEST(IntrinsicCalibrationTest, TooFewViewsIsAnError) {
   const auto k = TrueCamera();
   auto views = DetectedViews(k, 2, 8, ViewSpread::kGood);
