@@ -94,6 +94,7 @@ class MONOCLE_CLIENT_API Client {
     // Called, in words, when data on a camera's topics was not taken as the camera's: a reply
     // or a calibration from a participant that does not serve the camera (spoofed, or a
     // second service misconfigured). Null: not reported. (subscribe_poses has its own.)
+    // Called on the thread that made the request, inside it: it must not call the client.
     std::function<void(const std::string&)> on_ignored{};
   };
 
