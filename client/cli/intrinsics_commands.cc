@@ -14,7 +14,10 @@
 #include "client/cli/commands.h"
 #include "client/cli/progress.h"
 #include "client/cli/shared_options.h"
+#include "client/cli/uncertainty_picture.h"
 #include "idl/cli_output.pb.h"
+#include "service/geometry/projection_uncertainty.h"
+#include "service/io/atomic_file.h"
 #include "service/io/calibration_file.h"
 #include "service/vision/chessboard.h"
 #include "service/vision/intrinsic_calibration.h"
@@ -29,7 +32,8 @@ angles, and reports how sure it is: each parameter with its 1 sigma (the full co
 goes into CAL.pbtxt, and floor calibrations and measurements made with it include it). The
 1 sigma counts what independent corner noise does not: with 5 views or more, each
 parameter's analytic 1 sigma is raised to the spread of the fits that leave one view out
-(jackknife) where that is larger; the JSON has both.
+(jackknife) where that is larger; the JSON has both. It also says how sure the calibration
+is of where a ray lands, across the image (--overlay draws it).
 
 Good views: 10-20 images, the board near every corner and edge of the image and in its
 middle, tilted 20-45 degrees in different directions, sharp and evenly lit.)";
@@ -46,6 +50,7 @@ struct IntrinsicsArgs {
   std::string out_path;
   IntrinsicCalibrationOptions options;
   std::optional<std::string> overlay_dir;
+  std::optional<std::string> corners_path;
   bool json = false;
 };
 
@@ -57,24 +62,30 @@ void DeclareIntrinsics(CommandLine& line, IntrinsicsArgs* a) {
             "calibration file to write atomically. Its corner section is kept; a floor section "
             "is removed (it was fitted with the old intrinsics: calibrate the floor again)");
   line.Require("--out");
-  line.Custom("--model", "auto|k1k2|k1k2p1p2|k1k2p1p2k3",
-              "distortion model: k1k2 (radial), k1k2p1p2 (+ tangential), k1k2p1p2k3 (+ a third "
-              "radial term, wide-angle lenses), or auto (default): the smallest model the data "
-              "support, by the Bayesian information criterion; the choice and its reason are "
-              "printed",
-              [a](const std::string& text) -> std::optional<std::string> {
-                const auto model = ParseDistortionModel(text);
-                if (!model) return model.error().message;
-                a->options.model = *model;
-                return std::nullopt;
-              });
+  line.Custom(
+      "--model", "auto|k1k2|k1k2p1p2|k1k2p1p2k3",
+      "distortion model: k1k2 (radial), k1k2p1p2 (+ tangential), k1k2p1p2k3 (+ a third "
+      "radial term, wide-angle lenses), or auto (default): the smallest model that predicts "
+      "each view left out of the fit as well as the best does (within one standard "
+      "error; by BIC below 5 views); the choice and its reason are printed",
+      [a](const std::string& text) -> std::optional<std::string> {
+        const auto model = ParseDistortionModel(text);
+        if (!model) return model.error().message;
+        a->options.model = *model;
+        return std::nullopt;
+      });
   line.Flag("--drop-outliers", &a->options.drop_outliers,
             "refit without the views whose RMS exceeds 3x the median view's (they are always "
             "named)");
   line.Text("--overlay", &a->overlay_dir, "DIR",
             "write DIR/<image>.png per view (detected corners, each corner's residual magnified "
             "100x as a red line, corners left out as blunders as red circles) and "
-            "DIR/coverage.png (where in the image corners were seen)");
+            "DIR/coverage.png (where in the image corners were seen) and DIR/uncertainty.png "
+            "(the 1 sigma of where a ray lands across the image, with the corners seen: where "
+            "to hold the board next)");
+  line.Text("--corners", &a->corners_path, "FILE.vnl",
+            "write the corners used, in mrcal's corners.vnl format (filename x y level; "
+            "corners left out as blunders are '-'), to fit the same corners with mrcal");
   line.Flag("--json", &a->json, "print one JSON object (idl/cli_output.proto IntrinsicsOutput)");
 }
 
@@ -165,7 +176,11 @@ int DetectBoards(const std::vector<std::string>& paths, const BoardSpec& spec,
   return kExitOk;
 }
 
-// Each view with its corners and their residuals, and the image's coverage, into `dir`.
+// The cell size of the projection uncertainty reported and drawn, px.
+constexpr double kProjectionCellPx = 16;
+
+// Each view with its corners and their residuals, the image's coverage and the projection
+// uncertainty, into `dir`.
 Status WriteOverlays(const std::string& dir, const std::vector<IntrinsicView>& views,
                      const IntrinsicCalibration& cal, cv::Size size) {
   for (const auto& fit : cal.views) {
@@ -177,7 +192,41 @@ Status WriteOverlays(const std::string& dir, const std::vector<IntrinsicView>& v
     DrawView(colour, it->board, fit);
     if (auto w = WriteImage(dir + "/" + Stem(fit.name) + ".png", colour); !w) return w;
   }
-  return WriteImage(dir + "/coverage.png", CoveragePicture(size, views, cal));
+  if (auto w = WriteImage(dir + "/coverage.png", CoveragePicture(size, views, cal)); !w) return w;
+  const auto map = MapProjectionUncertainty(cal.intrinsics, cal.covariance, kProjectionCellPx / 2);
+  return WriteImage(dir + "/uncertainty.png", ProjectionUncertaintyPicture(map, size, views));
+}
+
+// The corners as mrcal reads them (corners.vnl: one line per board corner, row by row, the
+// image's file name, x y, and a weight level or '-' for a corner not used). The detector may
+// find a board turned by a quarter (6x9 instead of 9x6); mrcal needs one layout, so every
+// view is written with its longer side along the rows (--object-width-n is the larger count).
+Status WriteMrcalCorners(const std::string& path, const std::vector<IntrinsicView>& views,
+                         const IntrinsicCalibration& cal) {
+  std::ostringstream vnl;
+  vnl << std::setprecision(9) << "# filename x y level\n";
+  for (const auto& view : views) {
+    const auto fit = std::find_if(cal.views.begin(), cal.views.end(),
+                                  [&](const ViewFit& f) { return f.name == view.name; });
+    if (fit == cal.views.end()) continue;
+    const auto& b = view.board;
+    const bool transposed = b.rows > b.cols;
+    const int width = std::max(b.cols, b.rows), height = std::min(b.cols, b.rows);
+    for (int row = 0; row < height; ++row) {
+      for (int col = 0; col < width; ++col) {
+        const int i = transposed ? row : col, j = transposed ? col : row;
+        const bool used = std::find(fit->rejected_indices.begin(), fit->rejected_indices.end(),
+                                    j * b.cols + i) == fit->rejected_indices.end();
+        vnl << std::filesystem::path(view.name).filename().string() << " ";
+        if (used) {
+          vnl << b.Pixel(i, j).x() << " " << b.Pixel(i, j).y() << " 0\n";
+        } else {
+          vnl << "- - -\n";
+        }
+      }
+    }
+  }
+  return WriteFileAtomically(path, vnl.str());
 }
 
 void SetSigma(const Eigen::Matrix<double, kNumIntrinsicParams, 1>& sigma,
@@ -187,6 +236,14 @@ void SetSigma(const Eigen::Matrix<double, kNumIntrinsicParams, 1>& sigma,
   s->set_cx(sigma[2]);
   s->set_cy(sigma[3]);
   for (int i = 0; i < 5; ++i) s->add_distortion(sigma[4 + i]);
+}
+
+void SetProjectionSigma(const ProjectionUncertaintyMap::Summary& s, proto::ProjectionSigma* out) {
+  out->set_centre_px(s.centre_px);
+  out->set_median_px(s.median_px);
+  out->set_worst_px(s.worst_px);
+  out->set_worst_x(s.worst_at_px.x());
+  out->set_worst_y(s.worst_at_px.y());
 }
 
 // The result as the JSON output has it.
@@ -207,6 +264,16 @@ void FillOutput(const IntrinsicCalibration& cal, const std::string& written, boo
   SetSigma(cal.jackknife_covariance.diagonal().cwiseMax(0).cwiseSqrt(),
            out->mutable_jackknife_sigma());
   out->set_covariance_method(cal.covariance_method);
+  const auto map = MapProjectionUncertainty(k, cal.covariance, kProjectionCellPx);
+  SetProjectionSigma(map.absolute, out->mutable_projection_sigma());
+  SetProjectionSigma(map.relative, out->mutable_relative_projection_sigma());
+  for (const auto& trial : cal.trials) {
+    auto* t = out->add_trials();
+    t->set_model(ToString(trial.model));
+    t->set_rms_px(trial.rms_px);
+    t->set_held_out_rms_px(trial.held_out_rms_px);
+    t->set_bic(trial.bic);
+  }
   out->set_model(ToString(cal.model));
   out->set_model_reason(cal.model_reason);
   out->set_rms_px(cal.rms_px);
@@ -270,8 +337,16 @@ void PrintText(const IntrinsicCalibration& cal, size_t found, size_t images,
       std::cout << " (fixed: not in the " << ToString(cal.model) << " model)\n";
     }
   }
+  const auto map = MapProjectionUncertainty(k, cal.covariance, kProjectionCellPx);
   std::cout << "model       " << cal.model_reason << "\n"
             << "1σ          " << cal.covariance_method << "\n"
+            << std::setprecision(2)
+            << "projection  1σ of where a ray lands, centre / median / worst: "
+            << map.absolute.centre_px << " / " << map.absolute.median_px << " / "
+            << map.absolute.worst_px << " px; after the best camera rotation "
+            << map.relative.centre_px << " / " << map.relative.median_px << " / "
+            << map.relative.worst_px << " px, worst at (" << std::setprecision(0)
+            << map.relative.worst_at_px.x() << ", " << map.relative.worst_at_px.y() << ")\n"
             << std::setprecision(4) << "rms         " << cal.rms_px
             << " px (one corner coordinate: 1σ " << cal.corner_sigma_px << " px)\n"
             << std::setprecision(0) << "coverage    " << 100 * cal.coverage
@@ -356,6 +431,10 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
     return Fail(saved.error(), kExitFailure);
   if (overlay_dir) {
     if (Status w = WriteOverlays(*overlay_dir, views, *cal, size); !w)
+      return Fail(w.error(), kExitFailure);
+  }
+  if (a.corners_path) {
+    if (Status w = WriteMrcalCorners(*a.corners_path, views, *cal); !w)
       return Fail(w.error(), kExitFailure);
   }
   FillOutput(*cal, out_path, floor_removed, &out);

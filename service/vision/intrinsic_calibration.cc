@@ -6,6 +6,7 @@
 #include <numbers>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 namespace monocle {
@@ -79,6 +80,16 @@ std::vector<int> FreeParameters(DistortionModel model) {
   }
 }
 
+// One view's part of the normal equations at a fit's optimum, its pose marginalised out:
+// what a leave-this-view-out fit needs, one Gauss-Newton step away.
+struct ViewSystem {
+  Eigen::MatrixXd jk;                           // d(residuals)/d(free intrinsics), 2N x nk
+  Eigen::Matrix<double, Eigen::Dynamic, 6> je;  // d(residuals)/d(rvec, tvec)
+  Eigen::VectorXd r;                            // residuals (reprojected - detected), px
+  Eigen::MatrixXd schur;                        // jk'jk - B C^-1 B', nk x nk
+  Eigen::VectorXd gradient;                     // jk'r - B C^-1 je'r, nk
+};
+
 struct Fit {
   DistortionModel model;
   CameraIntrinsics intrinsics;
@@ -89,6 +100,7 @@ struct Fit {
   IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
   double corner_sigma_px = 0;
   std::vector<std::vector<Eigen::Vector2d>> residuals_px;  // per used view
+  std::vector<ViewSystem> systems;                         // per used view
 };
 
 }  // namespace
@@ -122,6 +134,7 @@ void Evaluate(const Correspondences& c, Fit* fit) {
   fit->rss = 0;
   fit->residuals = 0;
   fit->residuals_px.clear();
+  fit->systems.clear();
   for (size_t v = 0; v < c.object.size(); ++v) {
     std::vector<cv::Point2d> projected;
     cv::Mat jac;  // 2N x 15: rvec(3) tvec(3) fx fy cx cy k1 k2 p1 p2 k3
@@ -140,10 +153,19 @@ void Evaluate(const Correspondences& c, Fit* fit) {
       }
     }
     fit->residuals += 2 * n;
+    ViewSystem system;
+    system.r.resize(2 * n);
+    for (int i = 0; i < n; ++i) system.r.segment<2>(2 * i) = res[i];
     fit->residuals_px.push_back(std::move(res));
     const Eigen::Matrix<double, 6, 6> cee = je.transpose() * je;
     const Eigen::MatrixXd bke = jk.transpose() * je;
-    schur += jk.transpose() * jk - bke * cee.ldlt().solve(bke.transpose());
+    const auto cee_ldlt = cee.ldlt();
+    system.schur = jk.transpose() * jk - bke * cee_ldlt.solve(bke.transpose());
+    system.gradient = jk.transpose() * system.r - bke * cee_ldlt.solve(je.transpose() * system.r);
+    schur += system.schur;
+    system.jk = std::move(jk);
+    system.je = std::move(je);
+    fit->systems.push_back(std::move(system));
   }
   const int params = nk + 6 * static_cast<int>(c.object.size());
   const int dof = std::max(fit->residuals - params, 1);
@@ -198,39 +220,131 @@ Result<Fit> FitModel(const Correspondences& c, const cv::Size& size, DistortionM
   return fit;
 }
 
-Eigen::Matrix<double, kNumIntrinsicParams, 1> Parameters(const CameraIntrinsics& k) {
-  Eigen::Matrix<double, kNumIntrinsicParams, 1> p;
-  p << k.fx, k.fy, k.cx, k.cy, k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3],
-      k.distortion[4];
-  return p;
+// The fit again without each view in turn: its parameters, and how well they predict the
+// view left out (its pose refitted to them, the intrinsics not).
+struct LeaveOuts {
+  std::vector<IntrinsicParams> params;  // per used view
+  std::vector<double> held_out_sse;     // that view's squared residual coordinates, px^2
+  int held_out_corners = 0;             // over all views
+};
+
+IntrinsicParams Scatter(const std::vector<int>& free, const Eigen::VectorXd& step) {
+  IntrinsicParams full = IntrinsicParams::Zero();
+  for (size_t a = 0; a < free.size(); ++a) full[free[a]] = step[a];
+  return full;
 }
 
-// The leave-one-view-out jackknife covariance of the parameters: the fit again without each
-// view in turn, (n-1)/n times the spread of those fits. Errors shared by one view's corners
-// move its leave-out fit, so they count here, as they do not in the analytic covariance.
-Result<IntrinsicsCovariance> JackknifeCovariance(const Correspondences& c, const cv::Size& size,
-                                                 const Fit& full) {
+// Each leave-one-view-out fit as one Gauss-Newton step from the full fit's optimum on the
+// other views' normal equations (their poses marginalised out): the fit without a view
+// moves little, so one step is close to refitting (intrinsic_calibration_test checks it
+// against ExactLeaveOuts) at the cost of a 9x9 solve instead of a calibration.
+Result<LeaveOuts> LinearisedLeaveOuts(const Fit& fit) {
+  const std::vector<int> free = FreeParameters(fit.model);
+  const int nk = static_cast<int>(free.size());
+  Eigen::MatrixXd schur = Eigen::MatrixXd::Zero(nk, nk);
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(nk);
+  for (const auto& s : fit.systems) {
+    schur += s.schur;
+    gradient += s.gradient;
+  }
+  const IntrinsicParams at = IntrinsicParamsOf(fit.intrinsics);
+  LeaveOuts out;
+  for (const auto& s : fit.systems) {
+    const Eigen::FullPivLU<Eigen::MatrixXd> rest(schur - s.schur);
+    if (rest.rank() < nk) {
+      return MakeError(ErrorCode::kDegenerate, "without one view the rest do not determine it");
+    }
+    const Eigen::VectorXd step = -rest.solve(gradient - s.gradient);
+    out.params.push_back(at + Scatter(free, step));
+    // The left-out view under the new intrinsics, its own pose refitted (linearised too).
+    const Eigen::VectorXd moved = s.r + s.jk * step;
+    const Eigen::Matrix<double, 6, 1> pose_step =
+        -(s.je.transpose() * s.je).ldlt().solve(s.je.transpose() * moved);
+    out.held_out_sse.push_back((moved + s.je * pose_step).squaredNorm());
+    out.held_out_corners += static_cast<int>(s.r.size() / 2);
+  }
+  return out;
+}
+
+// Each leave-one-view-out fit refitted in full from the full fit's optimum, and the left-out
+// view's pose by solvePnP: the reference LinearisedLeaveOuts approximates.
+Result<LeaveOuts> ExactLeaveOuts(const Correspondences& c, const cv::Size& size, const Fit& full) {
   const size_t n = c.object.size();
-  std::vector<Eigen::Matrix<double, kNumIntrinsicParams, 1>> leave_outs;
-  for (size_t out = 0; out < n; ++out) {
+  LeaveOuts out;
+  for (size_t left = 0; left < n; ++left) {
     Correspondences rest;
     for (size_t v = 0; v < n; ++v) {
-      if (v == out) continue;
+      if (v == left) continue;
       rest.object.push_back(c.object[v]);
       rest.image.push_back(c.image[v]);
       rest.view_index.push_back(c.view_index[v]);
     }
     auto fit = FitModel(rest, size, full.model, &full);
     if (!fit) return fit.error();
-    leave_outs.push_back(Parameters(fit->intrinsics));
+    out.params.push_back(IntrinsicParamsOf(fit->intrinsics));
+    const CameraIntrinsics& k = fit->intrinsics;
+    const cv::Matx33d camera_matrix(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+    const cv::Mat dist = (cv::Mat_<double>(1, 5) << k.distortion[0], k.distortion[1],
+                          k.distortion[2], k.distortion[3], k.distortion[4]);
+    cv::Mat rvec = full.rvecs[left].clone(), tvec = full.tvecs[left].clone();
+    cv::solvePnP(c.object[left], c.image[left], camera_matrix, dist, rvec, tvec, true);
+    std::vector<cv::Point2f> projected;
+    cv::projectPoints(c.object[left], rvec, tvec, camera_matrix, dist, projected);
+    double sse = 0;
+    for (size_t i = 0; i < projected.size(); ++i) {
+      const cv::Point2f d = projected[i] - c.image[left][i];
+      sse += d.dot(d);
+    }
+    out.held_out_sse.push_back(sse);
+    out.held_out_corners += static_cast<int>(projected.size());
   }
-  Eigen::Matrix<double, kNumIntrinsicParams, 1> mean =
-      Eigen::Matrix<double, kNumIntrinsicParams, 1>::Zero();
-  for (const auto& p : leave_outs) mean += p;
+  return out;
+}
+
+// (n-1)/n times the spread of the leave-one-out parameters. Errors shared by one view's
+// corners move its leave-out fit, so they count here, as they do not in the analytic
+// covariance.
+IntrinsicsCovariance JackknifeCovariance(const LeaveOuts& leave_outs) {
+  const size_t n = leave_outs.params.size();
+  IntrinsicParams mean = IntrinsicParams::Zero();
+  for (const auto& p : leave_outs.params) mean += p;
   mean /= static_cast<double>(n);
   IntrinsicsCovariance cov = IntrinsicsCovariance::Zero();
-  for (const auto& p : leave_outs) cov += (p - mean) * (p - mean).transpose();
-  return IntrinsicsCovariance(cov * (static_cast<double>(n - 1) / static_cast<double>(n)));
+  for (const auto& p : leave_outs.params) cov += (p - mean) * (p - mean).transpose();
+  return cov * (static_cast<double>(n - 1) / static_cast<double>(n));
+}
+
+double HeldOutRmsPx(const LeaveOuts& leave_outs) {
+  double sse = 0;
+  for (const double e : leave_outs.held_out_sse) sse += e;
+  return std::sqrt(sse / std::max(leave_outs.held_out_corners, 1));
+}
+
+// The smallest model (they are nested, smallest first) whose error on views left out is
+// within one standard error of the best's, paired view by view: a richer model must predict
+// views it did not see clearly better, not merely fit the ones it did.
+size_t ChooseByHeldOutViews(const std::vector<LeaveOuts>& per_model) {
+  auto total = [](const LeaveOuts& l) {
+    double sum = 0;
+    for (const double e : l.held_out_sse) sum += e;
+    return sum;
+  };
+  size_t best = 0;
+  for (size_t m = 1; m < per_model.size(); ++m)
+    if (total(per_model[m]) < total(per_model[best])) best = m;
+  const size_t n = per_model[best].held_out_sse.size();
+  for (size_t m = 0; m < best; ++m) {
+    std::vector<double> excess(n);
+    double mean = 0;
+    for (size_t v = 0; v < n; ++v) {
+      excess[v] = per_model[m].held_out_sse[v] - per_model[best].held_out_sse[v];
+      mean += excess[v] / n;
+    }
+    double variance = 0;
+    for (const double e : excess) variance += (e - mean) * (e - mean) / std::max<size_t>(n - 1, 1);
+    if (mean * n <= std::sqrt(variance * n)) return m;
+  }
+  return best;
 }
 
 // How large a jackknife-to-analytic variance ratio noise alone makes with `dof` degrees of
@@ -267,20 +381,29 @@ std::string Fixed(double value, int digits) {
   return os.str();
 }
 
-std::string ModelReason(const std::vector<Fit>& fits, size_t chosen, bool automatic) {
+// `held_out_rms_px`: per model, when the choice was by views left out; empty when by BIC.
+std::string ModelReason(const std::vector<Fit>& fits, const std::vector<double>& held_out_rms_px,
+                        size_t chosen, bool automatic) {
   const Fit& f = fits[chosen];
   auto rms = [](const Fit& x) { return std::sqrt(x.rss / (x.residuals / 2)); };
   if (!automatic) return std::string(ToString(f.model)) + ", as asked";
+  const bool by_held_out = !held_out_rms_px.empty();
   std::string reason =
-      std::string(ToString(f.model)) + ", the smallest model the data support (BIC";
+      std::string(ToString(f.model)) +
+      (by_held_out ? ", the smallest model within one standard error of the "
+                     "best at predicting views left out of the fit (RMS on "
+                     "the view left out"
+                   : ", the smallest model the data support (BIC, fewer than " +
+                         std::to_string(kMinJackknifeViews) + " views to leave out; RMS");
   for (size_t i = 0; i < fits.size(); ++i) {
-    reason += std::string(i ? "; " : ": ") + ToString(fits[i].model) + " RMS " +
-              Fixed(rms(fits[i]), 4) + " px";
+    reason += std::string(i ? "; " : ": ") + ToString(fits[i].model) + " " +
+              Fixed(by_held_out ? held_out_rms_px[i] : rms(fits[i]), 4) + " px";
   }
   reason += ")";
   if (chosen + 1 < fits.size()) {
     reason += "; " + std::string(ToString(fits[chosen + 1].model)) +
-              " lowers the residual too little for its extra terms";
+              (by_held_out ? " does not predict them clearly better"
+                           : " lowers the residual too little for its extra terms");
   }
   return reason;
 }
@@ -356,98 +479,102 @@ void AddWarnings(size_t used_views, IntrinsicCalibration* out) {
   }
 }
 
-// One fit over the views marked in `use`: every candidate model, the chosen one's
-// covariance, per-view residuals, coverage and warnings.
-Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& views,
-                                             const std::vector<bool>& use,
-                                             const cv::Size& image_size,
-                                             const IntrinsicCalibrationOptions& options) {
-  const std::vector<DistortionModel> candidates =
-      options.model == DistortionModel::kAuto
-          ? std::vector<DistortionModel>{DistortionModel::kK1K2, DistortionModel::kK1K2P1P2,
-                                         DistortionModel::kK1K2P1P2K3}
-          : std::vector<DistortionModel>{options.model};
-  // A corner refined onto the wrong spot (a blunder of pixels, not noise) would dominate
-  // the fit and the choice of model. The richest model's fit finds them, as residuals beyond
-  // 5 robust sigmas (and 0.5 px); if there are any, every model is fitted again without them.
-  auto fit_all = [&](const Correspondences& c) -> Result<std::vector<Fit>> {
-    std::vector<Fit> fits;
-    for (const auto model : candidates) {
-      auto fit = FitModel(c, image_size, model);
-      if (!fit) return fit.error();
-      fits.push_back(std::move(*fit));
+// A corner refined onto the wrong spot (a blunder of pixels, not noise) would dominate the
+// fit and the choice of model. The richest model's fit finds them, as residuals beyond 5
+// robust sigmas (and 0.5 px): per view (indexed as the caller's), the corners to leave out.
+std::vector<std::vector<int>> FindBlunders(const Correspondences& c, const Fit& richest,
+                                           size_t view_count, int* count) {
+  std::vector<std::vector<int>> rejected(view_count);
+  std::vector<double> magnitudes;
+  for (const auto& view : richest.residuals_px)
+    for (const auto& r : view) magnitudes.push_back(r.norm());
+  std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
+                   magnitudes.end());
+  // The median of |r| for 2-D Gaussian noise is 1.1774 sigma.
+  const double robust_sigma = magnitudes[magnitudes.size() / 2] / 1.1774;
+  const double limit = std::max(5 * robust_sigma, 0.5);
+  *count = 0;
+  for (size_t u = 0; u < c.view_index.size(); ++u) {
+    auto& view_rejected = rejected[c.view_index[u]];
+    for (size_t i = 0; i < richest.residuals_px[u].size(); ++i) {
+      if (richest.residuals_px[u][i].norm() > limit) view_rejected.push_back(i);
     }
-    return fits;
-  };
-  Correspondences c = Collect(views, use, {});
-  auto fitted = fit_all(c);
-  if (!fitted) return fitted.error();
-  std::vector<std::vector<int>> rejected(views.size());
-  int rejected_count = 0;
-  {
-    const Fit& richest = fitted->back();
-    std::vector<double> magnitudes;
-    for (const auto& view : richest.residuals_px)
-      for (const auto& r : view) magnitudes.push_back(r.norm());
-    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
-                     magnitudes.end());
-    // The median of |r| for 2-D Gaussian noise is 1.1774 sigma.
-    const double robust_sigma = magnitudes[magnitudes.size() / 2] / 1.1774;
-    const double limit = std::max(5 * robust_sigma, 0.5);
-    for (size_t u = 0; u < c.view_index.size(); ++u) {
-      auto& view_rejected = rejected[c.view_index[u]];
-      for (size_t i = 0; i < richest.residuals_px[u].size(); ++i) {
-        if (richest.residuals_px[u][i].norm() > limit) view_rejected.push_back(i);
-      }
-      // A view that loses more than a quarter of its corners is a bad view, not a few bad
-      // corners: keep it whole and let the outlier test name it.
-      if (view_rejected.size() * 4 > richest.residuals_px[u].size()) view_rejected.clear();
-      rejected_count += view_rejected.size();
-    }
+    // A view that loses more than a quarter of its corners is a bad view, not a few bad
+    // corners: keep it whole and let the outlier test name it.
+    if (view_rejected.size() * 4 > richest.residuals_px[u].size()) view_rejected.clear();
+    *count += view_rejected.size();
   }
-  if (rejected_count > 0) {
-    c = Collect(views, use, rejected);
-    fitted = fit_all(c);
-    if (!fitted) return fitted.error();
-  }
-  const std::vector<Fit>& fits = *fitted;
-  size_t chosen = 0;
-  for (size_t i = 1; i < fits.size(); ++i)
-    if (fits[i].bic < fits[chosen].bic) chosen = i;
-  const Fit& fit = fits[chosen];
+  return rejected;
+}
 
-  IntrinsicCalibration out;
-  out.rejected_corners = rejected_count;
-  out.intrinsics = fit.intrinsics;
-  out.analytic_covariance = fit.covariance;
-  out.covariance = fit.covariance;
-  if (c.object.size() < kMinJackknifeViews) {
-    out.covariance_method = "analytic (Gauss-Newton) only: the jackknife needs " +
-                            std::to_string(kMinJackknifeViews) + " views or more";
+Result<LeaveOuts> LeaveOutsOf(const Correspondences& c, const cv::Size& size, const Fit& fit,
+                              bool exact) {
+  return exact ? ExactLeaveOuts(c, size, fit) : LinearisedLeaveOuts(fit);
+}
+
+// Chooses among `fits` (one per candidate model) and sets the model, its reason, the trials
+// and the covariance of `out`.
+void ChooseModelAndCovariance(const Correspondences& c, const cv::Size& size,
+                              const std::vector<Fit>& fits, bool automatic, bool exact,
+                              IntrinsicCalibration* out) {
+  const bool enough_views = c.object.size() >= kMinJackknifeViews;
+  std::vector<std::optional<LeaveOuts>> leave_outs(fits.size());
+  for (size_t m = 0; m < fits.size() && enough_views; ++m) {
+    if (!fits[m].covariance.allFinite()) continue;
+    if (auto l = LeaveOutsOf(c, size, fits[m], exact)) leave_outs[m] = std::move(*l);
+  }
+  std::vector<double> held_out_rms;
+  size_t chosen = 0;
+  if (automatic && std::all_of(leave_outs.begin(), leave_outs.end(),
+                               [](const auto& l) { return l.has_value(); })) {
+    std::vector<LeaveOuts> all;
+    for (const auto& l : leave_outs) {
+      all.push_back(*l);
+      held_out_rms.push_back(HeldOutRmsPx(*l));
+    }
+    chosen = ChooseByHeldOutViews(all);
+  } else {
+    for (size_t i = 1; i < fits.size(); ++i)
+      if (fits[i].bic < fits[chosen].bic) chosen = i;
+  }
+  const Fit& fit = fits[chosen];
+  out->intrinsics = fit.intrinsics;
+  out->model = fit.model;
+  out->model_reason = ModelReason(fits, held_out_rms, chosen, automatic);
+  for (size_t m = 0; m < fits.size(); ++m) {
+    const Fit& f = fits[m];
+    out->trials.push_back({f.model, std::sqrt(f.rss / (f.residuals / 2)), f.bic,
+                           leave_outs[m] ? HeldOutRmsPx(*leave_outs[m]) : 0.0});
+  }
+  out->analytic_covariance = fit.covariance;
+  out->covariance = fit.covariance;
+  if (!enough_views) {
+    out->covariance_method = "analytic (Gauss-Newton) only: the jackknife needs " +
+                             std::to_string(kMinJackknifeViews) + " views or more";
   } else if (!fit.covariance.allFinite()) {
-    out.covariance_method =
+    out->covariance_method =
         "analytic (Gauss-Newton) only: the views leave a parameter "
         "undetermined (its 1 sigma is infinite)";
-  } else if (auto jackknife = JackknifeCovariance(c, image_size, fit); !jackknife) {
-    // The full fit stands; only the check of its 1 sigma is missing, and the user is told.
-    out.covariance_method =
+  } else if (!leave_outs[chosen]) {
+    // The fit stands; only the check of its 1 sigma is missing, and the user is told.
+    out->covariance_method =
         "analytic (Gauss-Newton) only: with one view left out the rest did not determine the "
         "camera, so the spread between views could not be measured; add views";
   } else {
-    out.jackknife_covariance = *jackknife;
-    out.covariance =
-        Widened(fit.covariance, *jackknife, FreeParameters(fit.model), c.object.size());
-    out.covariance_method =
+    out->jackknife_covariance = JackknifeCovariance(*leave_outs[chosen]);
+    out->covariance = Widened(fit.covariance, out->jackknife_covariance, FreeParameters(fit.model),
+                              c.object.size());
+    out->covariance_method =
         "analytic (Gauss-Newton), each variance raised to the leave-one-view-out jackknife's "
         "where that is larger than chance (1 % over all parameters): errors shared by a view's "
         "corners count";
   }
-  out.model = fit.model;
-  out.model_reason = ModelReason(fits, chosen, options.model == DistortionModel::kAuto);
-  for (const auto& f : fits)
-    out.trials.push_back({f.model, std::sqrt(f.rss / (f.residuals / 2)), f.bic});
-  out.rms_px = std::sqrt(fit.rss / (fit.residuals / 2));
-  out.corner_sigma_px = fit.corner_sigma_px;
+}
+
+// Per-view residuals, poses and outliers of the chosen fit.
+void DescribeViews(const std::vector<IntrinsicView>& views, const Correspondences& c,
+                   const Fit& fit, const std::vector<std::vector<int>>& rejected,
+                   double outlier_factor, IntrinsicCalibration* out) {
   std::vector<double> view_rms;
   for (size_t u = 0; u < c.view_index.size(); ++u) {
     ViewFit v;
@@ -465,13 +592,53 @@ Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& v
     v.residuals_px = fit.residuals_px[u];
     v.rejected_corners = static_cast<int>(rejected[c.view_index[u]].size());
     v.rejected_indices = rejected[c.view_index[u]];
-    out.max_tilt_deg = std::max(out.max_tilt_deg, v.tilt_deg);
+    out->max_tilt_deg = std::max(out->max_tilt_deg, v.tilt_deg);
     view_rms.push_back(v.rms_px);
-    out.views.push_back(std::move(v));
+    out->views.push_back(std::move(v));
   }
   std::nth_element(view_rms.begin(), view_rms.begin() + view_rms.size() / 2, view_rms.end());
   const double median = view_rms[view_rms.size() / 2];
-  for (auto& v : out.views) v.outlier = v.rms_px > options.outlier_factor * median;
+  for (auto& v : out->views) v.outlier = v.rms_px > outlier_factor * median;
+}
+
+// One fit over the views marked in `use`: every candidate model, the chosen one's
+// covariance, per-view residuals, coverage and warnings.
+Result<IntrinsicCalibration> CalibrateSubset(const std::vector<IntrinsicView>& views,
+                                             const std::vector<bool>& use,
+                                             const cv::Size& image_size,
+                                             const IntrinsicCalibrationOptions& options) {
+  const bool automatic = options.model == DistortionModel::kAuto;
+  const std::vector<DistortionModel> candidates =
+      automatic ? std::vector<DistortionModel>{DistortionModel::kK1K2, DistortionModel::kK1K2P1P2,
+                                               DistortionModel::kK1K2P1P2K3}
+                : std::vector<DistortionModel>{options.model};
+  auto fit_all = [&](const Correspondences& c) -> Result<std::vector<Fit>> {
+    std::vector<Fit> fits;
+    for (const auto model : candidates) {
+      auto fit = FitModel(c, image_size, model);
+      if (!fit) return fit.error();
+      fits.push_back(std::move(*fit));
+    }
+    return fits;
+  };
+  Correspondences c = Collect(views, use, {});
+  auto fitted = fit_all(c);
+  if (!fitted) return fitted.error();
+  int rejected_count = 0;
+  const auto rejected = FindBlunders(c, fitted->back(), views.size(), &rejected_count);
+  if (rejected_count > 0) {
+    c = Collect(views, use, rejected);
+    fitted = fit_all(c);
+    if (!fitted) return fitted.error();
+  }
+  IntrinsicCalibration out;
+  out.rejected_corners = rejected_count;
+  ChooseModelAndCovariance(c, image_size, *fitted, automatic, options.exact_leave_outs, &out);
+  const Fit& fit = *std::find_if(fitted->begin(), fitted->end(),
+                                 [&](const Fit& f) { return f.model == out.model; });
+  out.rms_px = std::sqrt(fit.rss / (fit.residuals / 2));
+  out.corner_sigma_px = fit.corner_sigma_px;
+  DescribeViews(views, c, fit, rejected, options.outlier_factor, &out);
   MeasureCoverage(views, use, image_size, &out);
   AddWarnings(c.view_index.size(), &out);
   return out;

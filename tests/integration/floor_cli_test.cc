@@ -312,7 +312,8 @@ TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViewsWithItsSigma) {
   old.ceiling_distance_m = 1.5;
   ASSERT_TRUE(SaveCalibrationFileAtomically(dir / "cal.pbtxt", old).ok());
   std::string args = "intrinsics calibrate --board 9x6 --square 0.04 --json --out " +
-                     dir / "cal.pbtxt" + " --overlay " + dir / "overlay";
+                     dir / "cal.pbtxt" + " --overlay " + dir / "overlay" + " --corners " +
+                     dir / "corners.vnl";
   for (int i = 1; i <= 12; ++i) {
     std::ostringstream name;
     name << "views/view-" << std::setw(2) << std::setfill('0') << i << ".png";
@@ -366,6 +367,39 @@ TEST(IntrinsicsCliTest, RecoversTheCameraFromRenderedViewsWithItsSigma) {
     EXPECT_GE(reported[p], analytic[p]) << kIntrinsicParamNames[p];
     EXPECT_NEAR(reported[p], std::sqrt(cov(p, p)), 1e-4 * reported[p]) << kIntrinsicParamNames[p];
   }
+
+  // How sure it is where a ray lands: everywhere at least what the principal point's 1 sigma
+  // says (absolute), far less at the centre once the camera's rotation is out (relative), and
+  // worst away from the centre; the picture of it.
+  const auto& projection = json.projection_sigma();
+  const auto& relative = json.relative_projection_sigma();
+  EXPECT_GE(projection.centre_px(), 0.99 * std::max(reported[2], reported[3]));
+  EXPECT_LE(projection.median_px(), projection.worst_px());
+  EXPECT_LT(relative.centre_px(), 0.5 * projection.centre_px());
+  EXPECT_GT(relative.worst_px(), 2 * relative.centre_px());
+  EXPECT_GT(std::hypot(relative.worst_x() - 640, relative.worst_y() - 512), 300);
+  EXPECT_TRUE(std::filesystem::exists(dir / "overlay/uncertainty.png"));
+  // Every model was fitted; a model predicts the views it did not see worse than those it did.
+  ASSERT_EQ(json.trials_size(), 3);
+  for (const auto& trial : json.trials()) {
+    EXPECT_GT(trial.held_out_rms_px(), trial.rms_px()) << trial.model();
+    EXPECT_LT(trial.held_out_rms_px(), 2 * trial.rms_px()) << trial.model();
+  }
+  // The corners in mrcal's format: a header, then 54 lines per view, "file x y level".
+  std::istringstream vnl(testing::ReadFile(dir / "corners.vnl"));
+  std::string line;
+  int corners = 0;
+  std::getline(vnl, line);
+  EXPECT_EQ(line, "# filename x y level");
+  while (std::getline(vnl, line)) {
+    std::istringstream fields(line);
+    std::string file, x, y, level;
+    fields >> file >> x >> y >> level;
+    EXPECT_EQ(file.rfind("view-", 0), 0u) << line;
+    EXPECT_TRUE(level == "0" || level == "-") << line;
+    ++corners;
+  }
+  EXPECT_EQ(corners, 12 * 54);
 
   // Too few images is a usage error; a bad model name too.
   r = RunMonocle(dir, "intrinsics calibrate --board 9x6 --square 0.04 --out " + dir / "x.pbtxt" +
