@@ -177,7 +177,7 @@ int DetectBoards(const std::vector<std::string>& paths, const BoardSpec& spec,
 }
 
 // The cell size of the projection uncertainty reported and drawn, px.
-constexpr double kProjectionCellPx = 16;
+constexpr double kProjectionCellPx = 8;
 
 // Each view with its corners and their residuals, the image's coverage and the projection
 // uncertainty, into `dir`.
@@ -193,7 +193,7 @@ Status WriteOverlays(const std::string& dir, const std::vector<IntrinsicView>& v
     if (auto w = WriteImage(dir + "/" + Stem(fit.name) + ".png", colour); !w) return w;
   }
   if (auto w = WriteImage(dir + "/coverage.png", CoveragePicture(size, views, cal)); !w) return w;
-  const auto map = MapProjectionUncertainty(cal.intrinsics, cal.covariance, kProjectionCellPx / 2);
+  const auto map = MapProjectionUncertainty(cal.intrinsics, cal.covariance, kProjectionCellPx);
   return WriteImage(dir + "/uncertainty.png", ProjectionUncertaintyPicture(map, size, views));
 }
 
