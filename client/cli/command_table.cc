@@ -14,6 +14,10 @@ const std::vector<CommandEntry>& Commands() {
   static const std::vector<CommandEntry> commands = {
       {"Measuring from images and calibration files:", "intrinsics calibrate",
        "Focal lengths, principal point and lens distortion from several board images."},
+      {"", "intrinsics import",
+       "A calibration another tool wrote (ROS camera_info YAML, OpenCV FileStorage YAML/XML) "
+       "into a monocle calibration file."},
+      {"", "intrinsics export", "A monocle calibration's intrinsics as ROS camera_info YAML."},
       {"", "floor calibrate",
        "Camera height, pitch, yaw and roll from one image of a chessboard on the floor "
        "(or the running service's camera: --camera ID)."},

@@ -26,6 +26,8 @@ int CameraCommand(const std::string& command, const std::vector<std::string>& ar
 // simcam (simcam_command.cc).
 int SimcamCommand(const std::vector<std::string>& args);
 int IntrinsicsCommand(const std::vector<std::string>& args);
+int IntrinsicsImportCommand(const std::vector<std::string>& args);
+int IntrinsicsExportCommand(const std::vector<std::string>& args);
 int RenderCommand(const std::vector<std::string>& args);
 int RenderBoards(const std::vector<std::string>& args);  // render boards
 int RenderRoom(const std::vector<std::string>& args);    // render room

@@ -256,6 +256,17 @@ int CalibrateLive(const CalibrateArgs& a) {
   return kExitOk;
 }
 
+// A calibration without the covariance of its intrinsics (imported from another tool, or
+// written by hand) makes every 1 sigma too small by their share: say so, once, on stderr.
+bool WarnIfIntrinsicsHaveNoCovariance(const std::string& path, const CameraCalibration& c) {
+  if (!c.intrinsics_covariance.isZero()) return false;
+  std::cerr << "monocle: warning: " << path
+            << " has no covariance of its intrinsics (imported, or written by hand): the 1 "
+               "sigma below leaves the calibration's uncertainty out; monocle intrinsics "
+               "calibrate measures it\n";
+  return true;
+}
+
 int Calibrate(const std::vector<std::string>& argv) {
   CalibrateArgs a;
   CommandLine line(
@@ -313,6 +324,7 @@ int Calibrate(const std::vector<std::string>& argv) {
       ToOutput(estimate, ToString(method), static_cast<uint32_t>(corners), guidance);
   out.set_written(written);
   out.set_overlay(overlay);
+  out.set_sigma_excludes_intrinsics(WarnIfIntrinsicsHaveNoCovariance(cal_path, *calibration));
   PrintFloorCalibration(out, a.json);
   if (guidance.ill_conditioned) {
     return Fail(std::string("no usable floor calibration") +
@@ -325,7 +337,7 @@ int Calibrate(const std::vector<std::string>& argv) {
 
 // Prints one result per point, in order; exit status 1 if any failed.
 int PrintPoints(const std::vector<std::string>& texts, const std::vector<MeasuredPoint>& points,
-                bool json) {
+                bool json, bool sigma_excludes_intrinsics = false) {
   bool any_failed = false;
   if (json) std::cout << "[";
   for (size_t i = 0; i < points.size(); ++i) {
@@ -343,6 +355,7 @@ int PrintPoints(const std::vector<std::string>& texts, const std::vector<Measure
         out.mutable_sigma()->set_y(sigma[1]);
         out.mutable_sigma()->set_z(sigma[2]);
         for (double c : a.covariance) out.add_covariance(c);
+        out.set_sigma_excludes_intrinsics(sigma_excludes_intrinsics);
       } else {
         out.set_error(a.error);
       }
@@ -424,7 +437,8 @@ int Measure(const std::vector<std::string>& argv) {
   const auto answer =
       AnswerPointRequest({{cal_path, *calibration}}, cal_path, points, a.pixel_sigma_px);
   if (answer.status != RequestStatus::kAnswered) return Fail(answer.error, kExitFailure);
-  return PrintPoints(a.points, answer.points, a.json);
+  const bool excludes = WarnIfIntrinsicsHaveNoCovariance(cal_path, *calibration);
+  return PrintPoints(a.points, answer.points, a.json, excludes);
 }
 
 int Project(const std::vector<std::string>& argv) {

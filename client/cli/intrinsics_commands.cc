@@ -390,11 +390,16 @@ int IntrinsicsCommand(const std::vector<std::string>& argv) {
   IntrinsicsArgs a;
   CommandLine line("intrinsics calibrate", kAbout);
   DeclareIntrinsics(line, &a);
-  if (argv.empty() || argv[0] != "calibrate") {
-    if (argv.empty() || (argv[0] != "--help" && argv[0] != "-h"))
-      return Fail("intrinsics takes a command: calibrate (see --help)", kExitUsage);
-    std::cout << line.Help();
-    return kExitOk;
+  if (argv.empty() || argv[0] == "--help" || argv[0] == "-h") {
+    std::cout << "Usage: monocle intrinsics calibrate|import|export ...  (monocle intrinsics "
+                 "COMMAND --help)\n";
+    return argv.empty() ? kExitUsage : kExitOk;
+  }
+  if (argv[0] == "import") return IntrinsicsImportCommand({argv.begin() + 1, argv.end()});
+  if (argv[0] == "export") return IntrinsicsExportCommand({argv.begin() + 1, argv.end()});
+  if (argv[0] != "calibrate") {
+    return Fail("unknown intrinsics command '" + argv[0] + "' (calibrate, import or export)",
+                kExitUsage);
   }
   if (const auto exit_now = line.Parse({argv.begin() + 1, argv.end()})) return *exit_now;
   const auto& paths = a.images;
