@@ -10,12 +10,6 @@
 namespace monocle {
 namespace {
 
-CameraIntrinsics WideAngleCamera() {
-  CameraIntrinsics k = testing::PaperCamera();
-  k.distortion = {-0.28, 0.09, 0.0007, -0.0004, -0.012, 0, 0, 0};
-  return k;
-}
-
 CameraIntrinsics RationalCamera() {
   CameraIntrinsics k = testing::PaperCamera();
   k.distortion = {0.3, -0.05, 0.001, 0.002, 0.01, 0.4, -0.02, 0.005};
@@ -24,7 +18,8 @@ CameraIntrinsics RationalCamera() {
 
 TEST(CameraModelTest, UndistortInvertsDistortToMachinePrecision) {
   std::mt19937_64 rng(7);
-  for (const auto& k : {testing::PaperCamera(), WideAngleCamera(), RationalCamera()}) {
+  for (const auto& k :
+       {testing::PaperCamera(), testing::WideAnglePaperCamera(), RationalCamera()}) {
     std::uniform_real_distribution<double> u(0, k.width_px - 1), v(0, k.height_px - 1);
     for (int i = 0; i < 2000; ++i) {
       const Eigen::Vector2d px(u(rng), v(rng));
@@ -38,7 +33,8 @@ TEST(CameraModelTest, UndistortInvertsDistortToMachinePrecision) {
 TEST(CameraModelTest, ProjectionMatchesOpenCv) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> xy(-0.45, 0.45), z(0.5, 5);
-  for (const auto& k : {testing::PaperCamera(), WideAngleCamera(), RationalCamera()}) {
+  for (const auto& k :
+       {testing::PaperCamera(), testing::WideAnglePaperCamera(), RationalCamera()}) {
     const cv::Matx33d camera_matrix(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
     const std::vector<double> dist(k.distortion.begin(), k.distortion.end());
     for (int i = 0; i < 200; ++i) {
@@ -55,7 +51,7 @@ TEST(CameraModelTest, ProjectionMatchesOpenCv) {
 }
 
 TEST(CameraModelTest, UndistortionAgreesWithOpenCvAndIsTighter) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   const cv::Matx33d camera_matrix(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
   const std::vector<double> dist(k.distortion.begin(), k.distortion.end());
   const std::vector<cv::Point2d> corners{{0, 0}, {1279, 0}, {0, 1023}, {1279, 1023}, {640, 512}};
@@ -82,7 +78,7 @@ TEST(CameraModelTest, UndistortionAgreesWithOpenCvAndIsTighter) {
 }
 
 TEST(CameraModelTest, UndistortJacobianMatchesFiniteDifferences) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   const Eigen::Vector2d px(100.3, 900.7);
   Eigen::Matrix2d j;
   ASSERT_TRUE(PixelToNormalized(k, px, &j).has_value());
@@ -114,7 +110,7 @@ namespace {
 // Round trip: move each intrinsic parameter a little, re-project / re-undistort, and compare
 // with the analytic Jacobians.
 TEST(CameraModelTest, IntrinsicsJacobiansMatchFiniteDifferences) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   const double steps[kNumIntrinsicParams] = {1e-3, 1e-3, 1e-3, 1e-3, 1e-7, 1e-7, 1e-8, 1e-8, 1e-7};
   const Eigen::Vector2d pixels[] = {{100, 80}, {640, 500}, {1200, 950}};
   for (const auto& px : pixels) {

@@ -12,12 +12,6 @@
 namespace monocle {
 namespace {
 
-CameraIntrinsics WideAngleCamera() {
-  CameraIntrinsics k = testing::PaperCamera();
-  k.distortion = {-0.28, 0.09, 0.0007, -0.0004, -0.012, 0, 0, 0};
-  return k;
-}
-
 // A covariance with correlations and every parameter uncertain, small enough to be linear.
 IntrinsicsCovariance SomeCovariance() {
   IntrinsicParams sigma;
@@ -32,7 +26,7 @@ IntrinsicsCovariance SomeCovariance() {
 // Round trip: intrinsics drawn from the covariance move a fixed ray's pixel with the spread
 // that J C J' predicts.
 TEST(ProjectionUncertaintyTest, MatchesIntrinsicsDrawnFromTheCovariance) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   const IntrinsicsCovariance covariance = SomeCovariance();
   const Eigen::Matrix<double, kNumIntrinsicParams, kNumIntrinsicParams> root =
       covariance.llt().matrixL();
@@ -78,7 +72,7 @@ TEST(ProjectionUncertaintyTest, ThePrincipalPointAloneIsTheSameEverywhere) {
 
 // The rotation Jacobian against turning the ray for real.
 TEST(ProjectionUncertaintyTest, RotationJacobianMatchesTurningTheRay) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   for (const Eigen::Vector2d& pixel : {Eigen::Vector2d(30, 40), Eigen::Vector2d(700, 500)}) {
     const auto ray = PixelToNormalized(k, pixel);
     ASSERT_TRUE(ray);
@@ -98,7 +92,7 @@ TEST(ProjectionUncertaintyTest, RotationJacobianMatchesTurningTheRay) {
 // shifts over the grid with the best rotation (fitted here by turning rays for real) taken
 // out, spread as predicted.
 TEST(ProjectionUncertaintyTest, RelativeMatchesDrawsWithTheirBestRotationRemoved) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   const IntrinsicsCovariance covariance = SomeCovariance() * 0.01;  // well inside linearity
   constexpr double kStep = 128;
   const auto map = MapProjectionUncertainty(k, covariance, kStep);
@@ -153,7 +147,7 @@ TEST(ProjectionUncertaintyTest, RelativeMatchesDrawsWithTheirBestRotationRemoved
 
 // Uncertain distortion: sure at the centre, unsure at the image's corners, worst there.
 TEST(ProjectionUncertaintyTest, UncertainDistortionGrowsTowardsTheCorners) {
-  const CameraIntrinsics k = WideAngleCamera();
+  const CameraIntrinsics k = testing::WideAnglePaperCamera();
   IntrinsicsCovariance covariance = IntrinsicsCovariance::Zero();
   covariance(4, 4) = 0.003 * 0.003;
   const auto map = MapProjectionUncertainty(k, covariance, 32);

@@ -22,6 +22,13 @@ inline CameraIntrinsics PaperCamera() {
   return k;
 }
 
+// The paper camera behind a strong wide-angle lens (radial to k3, tangential).
+inline CameraIntrinsics WideAnglePaperCamera() {
+  CameraIntrinsics k = PaperCamera();
+  k.distortion = {-0.28, 0.09, 0.0007, -0.0004, -0.012, 0, 0, 0};
+  return k;
+}
+
 // A 640x512 industrial camera with a mild wide-angle lens (radial and tangential
 // distortion): small enough for tests that calibrate it many times.
 inline CameraIntrinsics SmallWideAngleCamera() {
