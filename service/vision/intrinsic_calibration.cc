@@ -382,8 +382,9 @@ std::string Fixed(double value, int digits) {
 }
 
 // `held_out_rms_px`: per model, when the choice was by views left out; empty when by BIC.
+// `bic_why`: why the choice was by BIC instead of by views left out.
 std::string ModelReason(const std::vector<Fit>& fits, const std::vector<double>& held_out_rms_px,
-                        size_t chosen, bool automatic) {
+                        size_t chosen, bool automatic, const std::string& bic_why) {
   const Fit& f = fits[chosen];
   auto rms = [](const Fit& x) { return std::sqrt(x.rss / (x.residuals / 2)); };
   if (!automatic) return std::string(ToString(f.model)) + ", as asked";
@@ -393,8 +394,7 @@ std::string ModelReason(const std::vector<Fit>& fits, const std::vector<double>&
       (by_held_out ? ", the smallest model within one standard error of the "
                      "best at predicting views left out of the fit (RMS on "
                      "the view left out"
-                   : ", the smallest model the data support (BIC, fewer than " +
-                         std::to_string(kMinJackknifeViews) + " views to leave out; RMS");
+                   : ", the smallest model the data support (BIC, " + bic_why + "; RMS");
   for (size_t i = 0; i < fits.size(); ++i) {
     reason += std::string(i ? "; " : ": ") + ToString(fits[i].model) + " " +
               Fixed(by_held_out ? held_out_rms_px[i] : rms(fits[i]), 4) + " px";
@@ -540,7 +540,10 @@ void ChooseModelAndCovariance(const Correspondences& c, const cv::Size& size,
   const Fit& fit = fits[chosen];
   out->intrinsics = fit.intrinsics;
   out->model = fit.model;
-  out->model_reason = ModelReason(fits, held_out_rms, chosen, automatic);
+  const std::string bic_why =
+      enough_views ? "with a view left out the rest did not determine every model"
+                   : "fewer than " + std::to_string(kMinJackknifeViews) + " views to leave out";
+  out->model_reason = ModelReason(fits, held_out_rms, chosen, automatic, bic_why);
   for (size_t m = 0; m < fits.size(); ++m) {
     const Fit& f = fits[m];
     out->trials.push_back({f.model, std::sqrt(f.rss / (f.residuals / 2)), f.bic,
