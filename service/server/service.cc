@@ -105,6 +105,12 @@ Result<std::unique_ptr<Service>> Service::Start(
       });
   if (!floor) return floor.error();
   s->floor_calibration_ = std::move(floor).value();
+  // Every ROS endpoint exists now: name them in ROS 2's graph.
+  if (s->setup_.ros_discovery != RosDiscoveryLayout::kOff) {
+    auto graph = RosDiscoveryInfo::Publish(p, s->setup_.ros_discovery);
+    if (!graph) return graph.error();
+    s->ros_discovery_ = std::move(graph).value();
+  }
 
   for (const auto& cam : cameras) {
     self->workers_.push_back(std::make_unique<CameraWorker>(

@@ -19,6 +19,7 @@
 #include "service/server/floor_calibration_handler.h"
 #include "service/server/point_query_handler.h"
 #include "service/server/pose_query_handler.h"
+#include "service/server/ros_discovery_info.h"
 #include "service/server/ros_topics.h"
 #include "service/server/service_config.h"
 
@@ -74,6 +75,7 @@ class Service {
   std::shared_ptr<dds::Entity> participant_;
   CalibrationStore calibrations_;
   std::unique_ptr<RosTopics> topics_;
+  std::unique_ptr<RosDiscoveryInfo> ros_discovery_;  // monocled in `ros2 node list`
   std::unique_ptr<DuplicateWatch> duplicates_;
   std::mutex intrinsics_mutex_;
   std::map<std::string, CameraIntrinsics> intrinsics_;  // for camera_info, by camera

@@ -83,6 +83,19 @@ Status ParseServiceWide(const proto::ServiceConfig& msg, const std::string& base
     out.status_period =
         std::chrono::milliseconds(static_cast<int64_t>(msg.status_period_s() * 1000));
   }
+  if (msg.has_ros_discovery_info()) {
+    const std::string& v = msg.ros_discovery_info();
+    if (v == "jazzy") {
+      out.ros_discovery = RosDiscoveryLayout::kIronAndLater;
+    } else if (v == "humble") {
+      out.ros_discovery = RosDiscoveryLayout::kHumble;
+    } else if (v == "off") {
+      out.ros_discovery = RosDiscoveryLayout::kOff;
+    } else {
+      return errors.Top("ros_discovery_info",
+                        "must be \"jazzy\" (Iron and later), \"humble\" or \"off\"");
+    }
+  }
   if (msg.has_discovery_wait_s()) {
     if (!(msg.discovery_wait_s() >= 0 && msg.discovery_wait_s() <= 60))
       return errors.Top("discovery_wait_s", "must be 0..60 seconds");

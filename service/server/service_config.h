@@ -77,6 +77,9 @@ CornerPipelineOptions CornerPipelineOptionsOf(const CameraSetup& camera);
 inline constexpr int kMaxCamerasPerService = 64;
 inline constexpr size_t kMaxNameLength = 128;  // a camera's id or device
 
+// Which Gid layout ros_discovery_info is written in (ros_discovery_info.h), or none.
+enum class RosDiscoveryLayout { kIronAndLater, kHumble, kOff };
+
 struct ServiceSetup {
   int domain = 0;
   std::string security_dir;  // DDS Security identity directory; empty: plain DDS
@@ -84,6 +87,7 @@ struct ServiceSetup {
   std::chrono::milliseconds status_period{1000};
   // Listening for the services already on the domain at start (duplicate_watch.h).
   std::chrono::milliseconds discovery_wait{1000};
+  RosDiscoveryLayout ros_discovery = RosDiscoveryLayout::kIronAndLater;
 };
 
 // `source` names the file in messages; relative calibration paths resolve against `base_dir`.

@@ -13,6 +13,13 @@ namespace {
 TEST(ServiceConfigTest, EmbeddedDefaultHasBothSimulatedCameras) {
   const auto setup = ParseServiceConfig(EmbeddedDefaultConfig(), "default", "/state");
   ASSERT_TRUE(setup.ok()) << setup.error();
+  EXPECT_EQ(setup->ros_discovery, RosDiscoveryLayout::kIronAndLater);
+  const auto humble = ParseServiceConfig(
+      "ros_discovery_info: \"humble\"\ncamera { device: \"a\" role: FLOOR calibration: \"x\" }",
+      "cfg", "/state");
+  ASSERT_TRUE(humble.ok()) << humble.error();
+  EXPECT_EQ(humble->ros_discovery, RosDiscoveryLayout::kHumble);
+  ASSERT_TRUE(setup.ok()) << setup.error();
   ASSERT_EQ(setup->cameras.size(), 2u);
   EXPECT_EQ(setup->cameras[0].id, "sim-corner");
   EXPECT_EQ(setup->cameras[0].role, CameraRole::kCorner);
@@ -92,6 +99,8 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
       {"domain: 400\ncamera { device: \"a\" role: FLOOR calibration: \"x\" }\n",
        "cfg: line 1: domain must be 0..232"},
       {"camera {\n  device: \"a\"\n  calibration: \"x\"\n}\n", "camera[0].role is missing"},
+      {"ros_discovery_info: \"rolling\"\ncamera { device: \"a\" role: FLOOR calibration: \"x\" }\n",
+       "cfg: line 1: ros_discovery_info must be \"jazzy\" (Iron and later), \"humble\" or \"off\""},
       {"camera {\n  role: FLOOR\n}\n", "cfg: line 1: camera[0].device is missing"},
       {"camera { device: \"a\" role: FLOOR calibration: \"x\" }\n"
        "camera {\n  device: \"a\"\n  role: CORNER\n  calibration: \"y\"\n}\n",

@@ -12,8 +12,10 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "tests/integration/cli_process.h"
 #include "tests/integration/ros2_wire.h"
@@ -400,6 +402,152 @@ camera {
     }
   }
   EXPECT_TRUE(matched) << base_by_stamp.size() << " tf, " << camera_by_stamp.size() << " poses";
+}
+
+// Every ROS endpoint (rt/, rq/, rr/) of monocled's participant as this participant's
+// built-in topics show it: its participant GUID, and its readers' and writers' GUIDs.
+struct RemoteEndpoints {
+  std::string participant;  // the GUID's 16 bytes as text
+  std::set<std::string> readers, writers;
+};
+
+std::string GuidText(const unsigned char* v) {
+  return std::string(reinterpret_cast<const char*>(v), 16);
+}
+std::string GidText(const char* data) { return std::string(data, 16); }
+
+RemoteEndpoints MonocledEndpoints(dds_entity_t participant) {
+  RemoteEndpoints out;
+  for (const auto& [topic, into] : {std::pair{DDS_BUILTIN_TOPIC_DCPSPUBLICATION, &out.writers},
+                                    std::pair{DDS_BUILTIN_TOPIC_DCPSSUBSCRIPTION, &out.readers}}) {
+    const dds_entity_t reader = dds_create_reader(participant, topic, nullptr, nullptr);
+    std::vector<void*> samples(4096, nullptr);
+    std::vector<dds_sample_info_t> infos(4096);
+    const int n = dds_read(reader, samples.data(), infos.data(), 4096, 4096);
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      const auto* e = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
+      const std::string name = e->topic_name;
+      // monocled's pose writer names its participant.
+      if (name == "rt/monocle/sim_corner/pose") out.participant = GuidText(e->participant_key.v);
+    }
+    for (int i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      const auto* e = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
+      const std::string name = e->topic_name;
+      const bool ros =
+          name.rfind("rt/", 0) == 0 || name.rfind("rq/", 0) == 0 || name.rfind("rr/", 0) == 0;
+      if (ros && GuidText(e->participant_key.v) == out.participant)
+        into->insert(GuidText(e->key.v));
+    }
+    if (n > 0) dds_return_loan(reader, samples.data(), n);
+    dds_delete(reader);
+  }
+  return out;
+}
+
+// ros_discovery_info as rmw_dds_common's GraphCache reads it (reliable, transient-local).
+dds_entity_t DiscoveryReader(dds_entity_t participant, const dds_topic_descriptor_t* type) {
+  dds_qos_t* qos = RosQos(false);
+  dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  const dds_entity_t topic =
+      dds_create_topic(participant, type, "ros_discovery_info", qos, nullptr);
+  const dds_entity_t reader =
+      topic > 0 ? dds_create_reader(participant, topic, qos, nullptr) : topic;
+  dds_delete_qos(qos);
+  return reader;
+}
+
+// `ros2 node list` finds monocled: its participant's ParticipantEntitiesInfo (Iron-and-later
+// layout, the default) names the node /monocled with every ROS reader and writer it has.
+TEST_F(Ros2InteropTest, RosDiscoveryInfoNamesTheNodeAndEveryEndpoint) {
+  const dds_entity_t reader =
+      DiscoveryReader(participant_, &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc);
+  ASSERT_GT(reader, 0);
+  RemoteEndpoints monocled;
+  for (int i = 0; i < 400 && (monocled.participant.empty() || monocled.readers.empty()); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    monocled = MonocledEndpoints(participant_);
+  }
+  ASSERT_FALSE(monocled.participant.empty()) << ReadFile(dir_ / "monocled.log");
+  std::set<std::string> readers, writers;
+  const bool found = TakeUntil<rmw_dds_common_msg_dds__ParticipantEntitiesInfo_>(
+      reader, std::chrono::seconds(40), [&](const auto& info) {
+        if (GidText(info.gid.data) != monocled.participant) return false;
+        EXPECT_EQ(info.node_entities_info_seq._length, 1u);
+        if (info.node_entities_info_seq._length != 1) return true;
+        const auto& node = info.node_entities_info_seq._buffer[0];
+        EXPECT_STREQ(node.node_name, "monocled");
+        EXPECT_STREQ(node.node_namespace, "/");
+        for (uint32_t i = 0; i < node.reader_gid_seq._length; ++i)
+          readers.insert(GidText(node.reader_gid_seq._buffer[i].data));
+        for (uint32_t i = 0; i < node.writer_gid_seq._length; ++i)
+          writers.insert(GidText(node.writer_gid_seq._buffer[i].data));
+        return true;
+      });
+  ASSERT_TRUE(found) << ReadFile(dir_ / "monocled.log");
+  EXPECT_EQ(writers, monocled.writers);
+  EXPECT_EQ(readers, monocled.readers);
+  EXPECT_GE(writers.size(), 10u);
+  EXPECT_GE(readers.size(), 3u);  // the services' request readers
+}
+
+// With `ros_discovery_info: "humble"` the Gid is Humble's 24 bytes: the GUID, then zeros.
+TEST_F(Ros2InteropTest, RosDiscoveryInfoInHumblesLayoutWhenConfigured) {
+  for (int i = 0; i < 400 && ReadFile(dir_ / "monocled.log").find("serving on DDS domain") ==
+                                 std::string::npos;
+       ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(monocled_->Stop(), 0) << ReadFile(dir_ / "monocled.log");
+  std::ofstream(dir_ / "state/humble.pbtxt") << R"(
+ros_discovery_info: "humble"
+camera { id: "sim-corner" device: "sim-corner" role: CORNER calibration: "sim-corner.pbtxt" }
+)";
+  monocled_ = std::make_unique<ChildProcess>(
+      MonocledBinary(),
+      std::vector<std::string>{"--domain", std::to_string(kDomain), "--config",
+                               dir_ / "state/humble.pbtxt"},
+      dir_ / "monocled.log");
+  // A Humble node's type: its own layout under rmw_dds_common's type name.
+  const dds_topic_descriptor_t& d = humble_msg_dds__ParticipantEntitiesInfo__desc;
+  const dds_topic_descriptor_t humble = {
+      d.m_size,
+      d.m_align,
+      d.m_flagset,
+      d.m_nkeys,
+      rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc.m_typename,
+      d.m_keys,
+      d.m_nops,
+      d.m_ops,
+      d.m_meta,
+      {},
+      {},
+      d.restrict_data_representation};
+  const dds_entity_t reader = DiscoveryReader(participant_, &humble);
+  ASSERT_GT(reader, 0);
+  RemoteEndpoints monocled;
+  for (int i = 0; i < 400 && monocled.participant.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    monocled = MonocledEndpoints(participant_);
+  }
+  ASSERT_FALSE(monocled.participant.empty()) << ReadFile(dir_ / "monocled.log");
+  const bool found = TakeUntil<humble_msg_dds__ParticipantEntitiesInfo_>(
+      reader, std::chrono::seconds(40), [&](const auto& info) {
+        if (GidText(info.gid.data) != monocled.participant) return false;
+        EXPECT_EQ(std::string(info.gid.data + 16, 8), std::string(8, '\0'));
+        EXPECT_EQ(info.node_entities_info_seq._length, 1u);
+        if (info.node_entities_info_seq._length == 1) {
+          const auto& node = info.node_entities_info_seq._buffer[0];
+          EXPECT_STREQ(node.node_name, "monocled");
+          std::set<std::string> writers;
+          for (uint32_t i = 0; i < node.writer_gid_seq._length; ++i)
+            writers.insert(GidText(node.writer_gid_seq._buffer[i].data));
+          EXPECT_EQ(writers, monocled.writers);
+        }
+        return true;
+      });
+  EXPECT_TRUE(found) << ReadFile(dir_ / "monocled.log");
 }
 
 }  // namespace
