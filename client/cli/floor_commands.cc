@@ -226,6 +226,29 @@ Status WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
 
 // The service calibrates its camera from the camera's next frame, reports, stores and
 // publishes it; the picture it sends is written here.
+// A calibration without the covariance of its intrinsics (imported from another tool, or
+// written by hand) makes every 1 sigma too small by their share: say so, once, on stderr.
+bool WarnIfIntrinsicsHaveNoCovariance(const std::string& path, const CameraCalibration& c) {
+  if (!c.intrinsics_covariance.isZero()) return false;
+  std::cerr << "monocle: warning: " << path
+            << " has no covariance of its intrinsics (imported, or written by hand): the 1 "
+               "sigma below leaves the calibration's uncertainty out; monocle intrinsics "
+               "calibrate measures it\n";
+  return true;
+}
+
+// The same of the calibration the service uses for `camera` (its published file text).
+bool WarnIfLiveIntrinsicsHaveNoCovariance(Client& client, const std::string& camera) {
+  const auto published = client.calibrations();
+  if (!published) return false;
+  for (const auto& c : *published) {
+    if (c.camera_id != camera) continue;
+    const auto parsed = ParseCalibration(c.text, c.file);
+    return parsed && WarnIfIntrinsicsHaveNoCovariance(c.file + " (camera " + camera + ")", *parsed);
+  }
+  return false;
+}
+
 int CalibrateLive(const CalibrateArgs& a) {
   int status = kExitOk;
   auto client = OpenClient(a.live, &status);
@@ -252,19 +275,9 @@ int CalibrateLive(const CalibrateArgs& a) {
   out.set_camera(camera);
   out.set_sequence(r->frame_sequence);
   out.set_revision(r->revision);
+  out.set_sigma_excludes_intrinsics(WarnIfLiveIntrinsicsHaveNoCovariance(*client, camera));
   PrintFloorCalibration(out, a.json);
   return kExitOk;
-}
-
-// A calibration without the covariance of its intrinsics (imported from another tool, or
-// written by hand) makes every 1 sigma too small by their share: say so, once, on stderr.
-bool WarnIfIntrinsicsHaveNoCovariance(const std::string& path, const CameraCalibration& c) {
-  if (!c.intrinsics_covariance.isZero()) return false;
-  std::cerr << "monocle: warning: " << path
-            << " has no covariance of its intrinsics (imported, or written by hand): the 1 "
-               "sigma below leaves the calibration's uncertainty out; monocle intrinsics "
-               "calibrate measures it\n";
-  return true;
 }
 
 int Calibrate(const std::vector<std::string>& argv) {
@@ -424,7 +437,8 @@ int Measure(const std::vector<std::string>& argv) {
     if (!client) return status;
     const auto measured = client->measure(*a.live.camera, points, a.pixel_sigma_px);
     if (!measured) return Fail(measured.error());
-    return PrintPoints(a.points, *measured, a.json);
+    const bool excludes = WarnIfLiveIntrinsicsHaveNoCovariance(*client, *a.live.camera);
+    return PrintPoints(a.points, *measured, a.json, excludes);
   }
   const std::string& cal_path = a.calibration_path;
   const auto calibration = LoadCalibrationFile(cal_path);

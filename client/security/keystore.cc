@@ -254,7 +254,8 @@ std::string PermissionsXml(const std::string& subject, Role role, const std::str
   std::vector<std::string> publish, subscribe;
   switch (role) {
     case Role::kService:
-      publish = {"rt/*", "rr/*"};
+      // ros_discovery_info: ROS 2's graph (`ros2 node list`), not under rt/.
+      publish = {"rt/*", "rr/*", "ros_discovery_info"};
       subscribe = {"rq/*", "rt/monocle/cameras"};  // others' cameras: duplicate names
       break;
     case Role::kOperator:
@@ -263,7 +264,7 @@ std::string PermissionsXml(const std::string& subject, Role role, const std::str
     case Role::kReader:
       publish.push_back("rq/*/measure_pointsRequest");
       publish.push_back("rq/*/get_poseRequest");
-      subscribe = {"rt/*", "rr/*"};
+      subscribe = {"rt/*", "rr/*", "ros_discovery_info"};
       break;
   }
   std::ostringstream x;

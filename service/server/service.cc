@@ -106,10 +106,18 @@ Result<std::unique_ptr<Service>> Service::Start(
   if (!floor) return floor.error();
   s->floor_calibration_ = std::move(floor).value();
   // Every ROS endpoint exists now: name them in ROS 2's graph.
+  // Not worth failing the service for: a keystore made before monocle published it does
+  // not permit the topic.
   if (s->setup_.ros_discovery != RosDiscoveryLayout::kOff) {
     auto graph = RosDiscoveryInfo::Publish(p, s->setup_.ros_discovery);
-    if (!graph) return graph.error();
-    s->ros_discovery_ = std::move(graph).value();
+    if (graph) {
+      s->ros_discovery_ = std::move(graph).value();
+    } else {
+      std::cerr << "monocled: warning: " << graph.error().message
+                << ": `ros2 node list` will not show monocled (with DDS Security, make the "
+                   "keystore again with monocle security init; or set ros_discovery_info: "
+                   "\"off\")\n";
+    }
   }
 
   for (const auto& cam : cameras) {
