@@ -231,7 +231,7 @@ Status WriteBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
 bool WarnIfIntrinsicsHaveNoCovariance(const std::string& path, const CameraCalibration& c) {
   if (!c.intrinsics_covariance.isZero()) return false;
   std::cerr << "monocle: warning: " << path
-            << " has no covariance of its intrinsics (imported, or written by hand): the 1 "
+            << " has no covariance of its intrinsics (imported, typed in, or a simulator's): the 1 "
                "sigma below leaves the calibration's uncertainty out; monocle intrinsics "
                "calibrate measures it\n";
   return true;
