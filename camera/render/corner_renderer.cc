@@ -220,10 +220,35 @@ RealisticLook RandomRealisticLook(uint64_t seed, const CameraIntrinsics& k) {
   return l;
 }
 
+namespace {
+
+// The light over the exposure: one pose, or the average over the motion's samples.
+cv::Mat RenderExposedRadiance(const CameraIntrinsics& k, const CornerPose& pose,
+                              const CornerScene& scene) {
+  if (!scene.exposure_end_pose || scene.motion_samples < 2) return RenderRadiance(k, pose, scene);
+  const CornerPose& end = *scene.exposure_end_pose;
+  cv::Mat sum;
+  for (int i = 0; i < scene.motion_samples; ++i) {
+    const double f = static_cast<double>(i) / (scene.motion_samples - 1);
+    auto mix = [f](double a, double b) { return a + f * (b - a); };
+    const CornerPose at{mix(pose.x_m, end.x_m),         mix(pose.y_m, end.y_m),
+                        mix(pose.z_m, end.z_m),         mix(pose.pan_rad, end.pan_rad),
+                        mix(pose.tilt_rad, end.tilt_rad), mix(pose.swing_rad, end.swing_rad)};
+    const cv::Mat radiance = RenderRadiance(k, at, scene);
+    if (sum.empty())
+      sum = radiance.clone();
+    else
+      sum += radiance;
+  }
+  return sum / scene.motion_samples;
+}
+
+}  // namespace
+
 cv::Mat RenderCornerScene(const CameraIntrinsics& k, const CornerPose& pose,
                           const CornerScene& scene) {
   const int w = k.width_px, h = k.height_px;
-  cv::Mat value = RenderRadiance(k, pose, scene);
+  cv::Mat value = RenderExposedRadiance(k, pose, scene);
   if (scene.realistic) return Photograph(value, Effects(*scene.realistic), scene.seed);
   if (scene.noise_sigma > 0) {
     cv::Mat noise(h, w, CV_32F);
@@ -240,7 +265,7 @@ cv::Mat RenderCornerExposure(const CameraIntrinsics& k, const CornerPose& pose,
                              const CornerScene& scene) {
   if (!scene.realistic)
     throw std::invalid_argument("RenderCornerExposure needs the realistic look");
-  return Expose(RenderRadiance(k, pose, scene), Effects(*scene.realistic));
+  return Expose(RenderExposedRadiance(k, pose, scene), Effects(*scene.realistic));
 }
 
 }  // namespace monocle

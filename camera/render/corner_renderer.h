@@ -59,6 +59,10 @@ struct CornerScene {
   uint64_t seed = 1;
   // Set: render the realistic look (its noise replaces noise_sigma).
   std::optional<RealisticLook> realistic;
+  // Set: the camera moves from the rendered pose to this one while the shutter is open
+  // (motion blur): the light is averaged over `motion_samples` poses evenly between them.
+  std::optional<CornerPose> exposure_end_pose;
+  int motion_samples = 4;
 };
 
 // 8-bit grey image of intrinsics.width_px x intrinsics.height_px. Pixels where materials

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace monocle {
 
@@ -33,6 +34,65 @@ std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const Corn
   return positions;
 }
 
+std::array<double, 3> EdgeSigmaPx(const CameraIntrinsics& k, const CornerPrediction& prediction) {
+  std::array<double, 3> sigma_px{};
+  const CornerPose& pose = prediction.pose;
+  const double scale = std::max(CameraPosition(pose).norm(), 0.1);
+  auto project = [&k](const CornerPose& p, const Eigen::Vector3d& corner_point,
+                      Eigen::Vector2d* px) {
+    const Eigen::Vector3d c = CornerToCamera(p, corner_point);
+    if (c.z() <= 1e-6) return false;
+    *px = NormalizedToPixel(k, c.head<2>() / c.z());
+    return true;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    // Visible points along the axis, 30 % apart, from the corner out to the image border.
+    std::vector<Eigen::Vector3d> points{Eigen::Vector3d::Zero()};
+    std::vector<Eigen::Vector2d> pixels(1);
+    if (!project(pose, points[0], &pixels[0])) continue;
+    for (double t = 1e-2 * scale; t < 100 * scale; t *= 1.3) {
+      const Eigen::Vector3d p = t * Eigen::Vector3d::Unit(axis);
+      Eigen::Vector2d px;
+      if (!project(pose, p, &px) || px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 ||
+          px.y() > k.height_px - 1)
+        break;
+      points.push_back(p);
+      pixels.push_back(px);
+    }
+    if (points.size() < 2) continue;
+    double worst = 0;
+    for (size_t j = 0; j < points.size(); ++j) {
+      const size_t a = j == 0 ? 0 : j - 1, b = j == 0 ? 1 : j;
+      const Eigen::Vector2d along = (pixels[b] - pixels[a]).normalized();
+      const Eigen::Vector2d normal(-along.y(), along.x());
+      double variance = 0;
+      for (int i = 0; i < 5; ++i) {
+        const CornerPose moved =
+            MovedBy(pose, prediction.sigma(i) * Eigen::Matrix<double, 5, 1>::Unit(i));
+        Eigen::Vector2d px;
+        const double across = project(moved, points[j], &px)
+                                  ? normal.dot(px - pixels[j])
+                                  : std::numeric_limits<double>::infinity();
+        variance += across * across;
+      }
+      worst = std::max(worst, std::sqrt(variance));
+    }
+    sigma_px[axis] = worst;
+  }
+  return sigma_px;
+}
+
+namespace {
+
+// Distance from `p` to the half-line from `origin` along unit `direction`, pixels.
+double DistanceToRay(const Eigen::Vector2d& p, const Eigen::Vector2d& origin,
+                     const Eigen::Vector2d& direction) {
+  const double along = std::max(0.0, (p - origin).dot(direction));
+  return (p - origin - along * direction).norm();
+}
+
+}  // namespace
+
 CornerTracker::CornerTracker(const CameraIntrinsics& intrinsics, double ceiling_distance_m,
                              const CornerTrackerOptions& options,
                              const CornerDetectorOptions& detector,
@@ -41,40 +101,59 @@ CornerTracker::CornerTracker(const CameraIntrinsics& intrinsics, double ceiling_
       ceiling_distance_m_(ceiling_distance_m),
       options_(options),
       detector_(detector),
-      quality_(quality) {}
+      quality_(quality),
+      motion_(options.motion) {}
 
 void CornerTracker::Reset() {
-  last_pose_.reset();
+  motion_.Reset();
+  have_pose_ = false;
   frames_since_detection_ = 0;
 }
 
-Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
+Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey,
+                                            const CornerPrediction& prediction) const {
   const CameraIntrinsics& k = intrinsics_;
   if (grey.cols != k.width_px || grey.rows != k.height_px || grey.type() != CV_8UC1)
     return MakeError(ErrorCode::kInvalidArgument, "frame does not match the calibration");
+  const CornerPose& predicted = prediction.pose;
   CornerEdges edges;
   edges.noise_sigma_grey = noise_sigma_grey_;
   edges.measurement_noise_grey = measurement_noise_grey_;
   edges.sample_spacing_px = options_.spacing_px;
-  const Eigen::Vector3d c = CornerToCamera(*last_pose_, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d c = CornerToCamera(predicted, Eigen::Vector3d::Zero());
   if (c.z() <= 0) return MakeError(ErrorCode::kNotFound, "the corner left the view");
   edges.corner_px = NormalizedToPixel(k, c.head<2>() / c.z());
   const double min_step = MinStepGrey(detector_, noise_sigma_grey_);
+  std::array<std::vector<Eigen::Vector2d>, 3> predicted_px;
   for (int axis = 0; axis < 3; ++axis) {
-    const auto positions = PredictEdgePx(k, *last_pose_, axis, options_.spacing_px);
-    if (positions.size() < 10) return MakeError(ErrorCode::kNotFound, "an edge left the view");
-    edges.direction[axis] = (positions[1] - positions[0]).normalized();
+    predicted_px[axis] = PredictEdgePx(k, predicted, axis, options_.spacing_px);
+    if (predicted_px[axis].size() < 10)
+      return MakeError(ErrorCode::kNotFound, "an edge left the view");
+    edges.direction[axis] = (predicted_px[axis][1] - predicted_px[axis][0]).normalized();
+  }
+  const std::array<double, 3> sigma_px = EdgeSigmaPx(k, prediction);
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto& positions = predicted_px[axis];
+    const double gate_px = std::clamp(3 * sigma_px[axis], options_.search_half_width_px,
+                                      options_.max_search_half_width_px);
     std::vector<EdgePointSample> samples;
     for (size_t begin = 0; begin < positions.size(); begin += 16) {
       const size_t end = std::min(positions.size(), begin + 16);
+      // Near the corner the other two edges are close: the search stops short of them.
+      double half_width = gate_px;
+      for (int other = 0; other < 3; ++other) {
+        if (other != axis)
+          half_width = std::min(half_width, 0.6 * DistanceToRay(positions[begin], edges.corner_px,
+                                                                edges.direction[other]));
+      }
+      if (half_width < 2) continue;
       // A 48 px stretch of the lens-bent edge is straight to well under 0.1 px.
       const Eigen::Vector2d chord = positions[end - 1] - positions[begin];
       const Eigen::Vector2d along = chord.norm() > 0 ? chord.normalized() : edges.direction[axis];
       const int spacing = options_.spacing_px;
       const int count = static_cast<int>(std::lround(chord.norm() / spacing)) + 1;
-      const auto chunk =
-          MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, spacing,
-                                          options_.search_half_width_px, 0, min_step));
+      const auto chunk = MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count,
+                                                         spacing, half_width, 0, min_step));
       samples.insert(samples.end(), chunk.begin(), chunk.end());
     }
     for (const auto& sample : samples) {
@@ -95,21 +174,24 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey) const {
     edges.polarity[axis] = votes >= 0 ? 1 : -1;
   }
   auto located = LocateCornerFromEdges(grey, k, ceiling_distance_m_, std::move(edges), detector_,
-                                       quality_, &*last_pose_);
+                                       quality_, &predicted);
   if (!located) return located;
   located->source = CornerSource::kTracked;
   return located;
 }
 
-Result<CornerLocation> CornerTracker::Process(const cv::Mat& grey) {
+Result<CornerLocation> CornerTracker::Process(const cv::Mat& grey,
+                                              std::optional<double> capture_time_s) {
+  time_s_ = capture_time_s ? *capture_time_s : time_s_ + 1.0 / 30;
   const bool detect_now =
-      !last_pose_ || frames_since_detection_ + 1 >= options_.detect_every_n_frames;
+      !have_pose_ || frames_since_detection_ + 1 >= options_.detect_every_n_frames;
   fallback_reason_.clear();
-  if (!detect_now) {
-    auto tracked = Track(grey);
+  const auto prediction = motion_.Predict(time_s_);
+  if (!detect_now && prediction) {
+    auto tracked = Track(grey, *prediction);
     if (tracked && !tracked->suspect) {
       ++frames_since_detection_;
-      last_pose_ = tracked->pose;
+      motion_.Update(tracked->pose, time_s_);
       return tracked;
     }
     fallback_reason_ =
@@ -118,12 +200,13 @@ Result<CornerLocation> CornerTracker::Process(const cv::Mat& grey) {
   auto detected = LocateCorner(grey, intrinsics_, ceiling_distance_m_, detector_, quality_);
   frames_since_detection_ = 0;
   if (detected) {
-    last_pose_ = detected->pose;
+    have_pose_ = true;
+    motion_.Update(detected->pose, time_s_);
     noise_sigma_grey_ = detected->edges.noise_sigma_grey;
     measurement_noise_grey_ = detected->edges.measurement_noise_grey;
     detected->source = CornerSource::kDetected;
   } else {
-    last_pose_.reset();
+    Reset();
   }
   return detected;
 }
