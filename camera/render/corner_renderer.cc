@@ -231,8 +231,8 @@ cv::Mat RenderExposedRadiance(const CameraIntrinsics& k, const CornerPose& pose,
   for (int i = 0; i < scene.motion_samples; ++i) {
     const double f = static_cast<double>(i) / (scene.motion_samples - 1);
     auto mix = [f](double a, double b) { return a + f * (b - a); };
-    const CornerPose at{mix(pose.x_m, end.x_m),         mix(pose.y_m, end.y_m),
-                        mix(pose.z_m, end.z_m),         mix(pose.pan_rad, end.pan_rad),
+    const CornerPose at{mix(pose.x_m, end.x_m),           mix(pose.y_m, end.y_m),
+                        mix(pose.z_m, end.z_m),           mix(pose.pan_rad, end.pan_rad),
                         mix(pose.tilt_rad, end.tilt_rad), mix(pose.swing_rad, end.swing_rad)};
     const cv::Mat radiance = RenderRadiance(k, at, scene);
     if (sum.empty())

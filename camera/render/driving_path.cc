@@ -22,8 +22,8 @@ CornerPose DrivingPoseAt(const DrivingPath& path, double t_s) {
   pose.z_m = path.ceiling_distance_m;
   // pan atan2(x, -y) and tilt atan2(horizontal distance, z) put the corner on the optical axis.
   pose.pan_rad = std::atan2(x, -y) + sway_rad;
-  pose.tilt_rad = std::atan2(std::hypot(x, y), path.ceiling_distance_m) +
-                  pi / 180 * std::sin(2 * pi * t / 1.3);
+  pose.tilt_rad =
+      std::atan2(std::hypot(x, y), path.ceiling_distance_m) + pi / 180 * std::sin(2 * pi * t / 1.3);
   pose.swing_rad = 0.5 * pi / 180 * std::sin(2 * pi * t / 0.9 + 1);
   return pose;
 }

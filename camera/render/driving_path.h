@@ -11,14 +11,14 @@
 namespace monocle {
 
 struct DrivingPath {
-  double speed_mps = 0.6;             // along the loop, constant
-  double turn_deg_per_s = 20;         // peak rate of the robot's own turning (its heading's sway)
-  double ceiling_distance_m = 1.6;    // camera to ceiling
-  double loop_radius_m = 0.5;         // the loop is a circle ...
+  double speed_mps = 0.6;               // along the loop, constant
+  double turn_deg_per_s = 20;           // peak rate of the robot's own turning (its heading's sway)
+  double ceiling_distance_m = 1.6;      // camera to ceiling
+  double loop_radius_m = 0.5;           // the loop is a circle ...
   double loop_centre_distance_m = 2.6;  // ... this far from the corner, horizontally
   double loop_bearing_rad = std::numbers::pi / 4;  // its centre's direction in the corner frame
-  double sway_period_s = 2.0;         // of the heading's sway
-  double start_s = 0;                 // where on the loop time 0 is
+  double sway_period_s = 2.0;                      // of the heading's sway
+  double start_s = 0;                              // where on the loop time 0 is
 };
 
 // The camera's pose at time `t_s` (seconds): position on the loop, pan aimed at the corner plus

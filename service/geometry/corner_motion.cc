@@ -6,9 +6,7 @@
 namespace monocle {
 namespace {
 
-double WrappedAngle(double a) {
-  return std::remainder(a, 2 * std::numbers::pi);
-}
+double WrappedAngle(double a) { return std::remainder(a, 2 * std::numbers::pi); }
 
 }  // namespace
 
@@ -48,8 +46,7 @@ void CornerMotionModel::Update(const CornerPose& pose, double time_s) {
       const PoseVector miss_per_s = (PoseDifference(pose, *last_pose_) - predicted_change) / dt;
       const PoseVector squared = miss_per_s.cwiseAbs2();
       const double w = have_misses_ ? options_.innovation_weight : 1.0;
-      miss_rms_per_s_ =
-          ((1 - w) * miss_rms_per_s_.cwiseAbs2() + w * squared).cwiseSqrt();
+      miss_rms_per_s_ = ((1 - w) * miss_rms_per_s_.cwiseAbs2() + w * squared).cwiseSqrt();
       have_misses_ = true;
     }
     velocity_ = PoseDifference(pose, *last_pose_) / dt;

@@ -47,7 +47,7 @@ class CornerMotionModel {
   CornerMotionOptions options_;
   std::optional<CornerPose> last_pose_;
   double last_time_s_ = 0;
-  std::optional<PoseVector> velocity_;  // per second
+  std::optional<PoseVector> velocity_;              // per second
   PoseVector miss_rms_per_s_ = PoseVector::Zero();  // RMS prediction miss, per second predicted
   bool have_misses_ = false;
 };

@@ -72,8 +72,8 @@ struct EdgeStretch {
 // `measured`: the edge's line as measured before (its points are `edges`'), which the second
 // pass then follows instead of a first fit of the points.
 std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, int m,
-                               double min_step, bool wide_filter, const LineFit* measured,
-                               CornerEdges* edges, bool* replaced,
+                               double min_step, int spacing_px, bool wide_filter,
+                               const LineFit* measured, CornerEdges* edges, bool* replaced,
                                std::vector<EdgeStretch>* stretches) {
   *replaced = false;
   stretches->clear();
@@ -94,7 +94,7 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   if (dir.dot(first->centroid - corner_n) < 0) dir = -dir;
   const Eigen::Vector2d start = first->centroid + dir * dir.dot(corner_n - first->centroid);
   std::vector<Eigen::Vector2d> positions, normals;
-  for (double t = 8.0 / focal; t < 4.0; t += 2.0 / focal) {
+  for (double t = 8.0 / focal; t < 4.0; t += spacing_px / focal) {
     Eigen::Matrix2d j;
     const Eigen::Vector2d px = NormalizedToPixel(k, start + t * dir, &j);
     if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;
@@ -115,11 +115,11 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
     const Eigen::Vector2d along = chord.norm() > 0
                                       ? chord.normalized()
                                       : Eigen::Vector2d(normals[begin].y(), -normals[begin].x());
-    const int count = std::max(1, static_cast<int>(std::lround(chord.norm() / 2)) + 1);
-    const auto chunk = MajoritySign(MeasureEdgeStretch(grey, positions[begin], along, count, 2, 2.5,
-                                                       0, min_step, derivative_sigma_px));
+    const int count = std::max(1, static_cast<int>(std::lround(chord.norm() / spacing_px)) + 1);
+    const auto chunk = MajoritySign(MeasureEdgeStretch(
+        grey, positions[begin], along, count, spacing_px, 2.5, 0, min_step, derivative_sigma_px));
     if (!chunk.empty())
-      stretches->push_back({positions[begin], along, 2.0 * (count - 1), second.size(),
+      stretches->push_back({positions[begin], along, 1.0 * spacing_px * (count - 1), second.size(),
                             second.size() + chunk.size()});
     second.insert(second.end(), chunk.begin(), chunk.end());
   }
@@ -265,7 +265,7 @@ struct MeasuredLines {
 // `before`: the lines measured before, of which the edges not in `measure` are kept (their
 // points in `edges` are then those lines'); nullptr measures all three.
 Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& k, double min_step,
-                                   const std::array<bool, 3>& wide_filter,
+                                   int spacing_px, const std::array<bool, 3>& wide_filter,
                                    const MeasuredLines* before, const std::array<bool, 3>& measure,
                                    CornerEdges* edges) {
   const double focal = 0.5 * (k.fx + k.fy);
@@ -277,7 +277,7 @@ Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& 
       out.replaced[m] = before->replaced[m];
       continue;
     }
-    auto fit = FitEdge(grey, k, m, min_step, wide_filter[m],
+    auto fit = FitEdge(grey, k, m, min_step, spacing_px, wide_filter[m],
                        before != nullptr ? &before->fits[m] : nullptr, edges, &out.replaced[m],
                        &out.stretches[m]);
     if (!fit) return MakeError(ErrorCode::kNotFound, "a corner edge could not be fitted");
@@ -289,7 +289,8 @@ Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& 
   if (!corner) return MakeError(ErrorCode::kDegenerate, "the corner edges are parallel");
   out.corner = *corner;
   // The second pass (2 px apart) replaces an edge's first points when it finds enough.
-  for (int m = 0; m < 3; ++m) out.spacing_px[m] = out.replaced[m] ? 2.0 : edges->sample_spacing_px;
+  for (int m = 0; m < 3; ++m)
+    out.spacing_px[m] = out.replaced[m] ? spacing_px : edges->sample_spacing_px;
   double point_sigma2 = 0;
   int total_points = 0;
   for (int m = 0; m < 3; ++m) {
@@ -314,7 +315,7 @@ Result<MeasuredLines> MeasureLines(const cv::Mat& grey, const CameraIntrinsics& 
 // read). Not a Y rolled past max_swing: that one gives way to the next Y anyway
 // (LocateCorner). Where the second measurement refines, it replaces the first.
 void MeasureWeakViewAgain(const cv::Mat& grey, const CameraIntrinsics& k, double min_step,
-                          const CornerQualityOptions& quality,
+                          int spacing_px, const CornerQualityOptions& quality,
                           const std::array<int, 3>& axis_of_line, CornerEdges* edges,
                           Result<MeasuredLines>* lines, Result<CornerRefinement>* refined,
                           std::array<bool, 3>* wide_filter) {
@@ -329,7 +330,7 @@ void MeasureWeakViewAgain(const cv::Mat& grey, const CameraIntrinsics& k, double
       measure[m] = WeakViewEdgeDerivativeSigmaPx(edges->blur_sigma_px[m]) > 0;
     if (measure[0] || measure[1] || measure[2]) {
       CornerEdges again = *edges;
-      auto wide = MeasureLines(grey, k, min_step, measure, &**lines, measure, &again);
+      auto wide = MeasureLines(grey, k, min_step, spacing_px, measure, &**lines, measure, &again);
       auto wide_refined = wide
                               ? RefineCornerPose((*refined)->pose, wide->observations, axis_of_line,
                                                  focal, wide->point_sigma_px, kLineBiasPx)
@@ -381,7 +382,8 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   const double focal = 0.5 * (k.fx + k.fy);
   const double min_step = MinStepGrey(options, edges.noise_sigma_grey);
   std::array<bool, 3> wide_filter{};
-  auto lines = MeasureLines(grey, k, min_step, wide_filter, nullptr, {}, &edges);
+  auto lines =
+      MeasureLines(grey, k, min_step, options.measure_spacing_px, wide_filter, nullptr, {}, &edges);
   if (!lines) return lines.error();
 
   CornerPose initial;
@@ -398,8 +400,8 @@ Result<CornerLocation> LocateCornerFromEdges(const cv::Mat& grey, const CameraIn
   auto refined = RefineCornerPose(initial, lines->observations, axis_of_line, focal,
                                   lines->point_sigma_px, kLineBiasPx);
   if (!refined) return refined.error();
-  MeasureWeakViewAgain(grey, k, min_step, quality, axis_of_line, &edges, &lines, &refined,
-                       &wide_filter);
+  MeasureWeakViewAgain(grey, k, min_step, options.measure_spacing_px, quality, axis_of_line, &edges,
+                       &lines, &refined, &wide_filter);
   const auto& fits = lines->fits;
   const auto& spacing_px = lines->spacing_px;
   const Eigen::Vector2d corner = lines->corner;

@@ -137,8 +137,11 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey,
     const double gate_px = std::clamp(3 * sigma_px[axis], options_.search_half_width_px,
                                       options_.max_search_half_width_px);
     std::vector<EdgePointSample> samples;
+    // Stretches of 8 points, every other one: enough to place the line the locator measures
+    // again along its whole length.
+    size_t searched = 0;
     for (size_t begin = 0; begin < positions.size(); begin += 16) {
-      const size_t end = std::min(positions.size(), begin + 16);
+      const size_t end = std::min(positions.size(), begin + 8);
       // Near the corner the other two edges are close: the search stops short of them.
       double half_width = gate_px;
       for (int other = 0; other < 3; ++other) {
@@ -147,7 +150,8 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey,
                                                                 edges.direction[other]));
       }
       if (half_width < 2) continue;
-      // A 48 px stretch of the lens-bent edge is straight to well under 0.1 px.
+      searched += end - begin;
+      // A 56 px stretch of the lens-bent edge is straight to a fraction of a pixel.
       const Eigen::Vector2d chord = positions[end - 1] - positions[begin];
       const Eigen::Vector2d along = chord.norm() > 0 ? chord.normalized() : edges.direction[axis];
       const int spacing = options_.spacing_px;
@@ -161,19 +165,20 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey,
       edges.step_grey[axis].push_back(sample.step_grey);
     }
     edges.blur_sigma_px[axis] = EdgeBlurSigmaPx(samples);
-    const double coverage =
-        static_cast<double>(edges.points_px[axis].size()) / static_cast<double>(positions.size());
+    const double coverage = static_cast<double>(edges.points_px[axis].size()) /
+                            static_cast<double>(std::max<size_t>(searched, 1));
     if (edges.points_px[axis].size() < 10 || coverage < options_.min_coverage)
       return MakeError(ErrorCode::kNotFound, std::string("edge ") + "XYZ"[axis] +
                                                  " was not found where it was predicted (" +
                                                  std::to_string(edges.points_px[axis].size()) +
-                                                 " of " + std::to_string(positions.size()) +
-                                                 " places)");
+                                                 " of " + std::to_string(searched) + " places)");
     int votes = 0;
     for (double s : edges.step_grey[axis]) votes += s > 0 ? 1 : -1;
     edges.polarity[axis] = votes >= 0 ? 1 : -1;
   }
-  auto located = LocateCornerFromEdges(grey, k, ceiling_distance_m_, std::move(edges), detector_,
+  CornerDetectorOptions measuring = detector_;
+  measuring.measure_spacing_px = options_.measure_spacing_px;
+  auto located = LocateCornerFromEdges(grey, k, ceiling_distance_m_, std::move(edges), measuring,
                                        quality_, &predicted);
   if (!located) return located;
   located->source = CornerSource::kTracked;

@@ -5,8 +5,8 @@
 // tracked pose is suspect, and every N frames.
 #pragma once
 
-#include <opencv2/core.hpp>
 #include <array>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,7 +30,10 @@ struct CornerTrackerOptions {
   // uncertainty, in pixels across the edge), but at least and at most this far, pixels.
   double search_half_width_px = 6;
   double max_search_half_width_px = 60;
-  int spacing_px = 3;          // between edge points along an edge, whole pixels
+  // The search's points, pixels apart along each predicted edge: they only place the line
+  // the locator measures again, every measure_spacing_px (CornerDetectorOptions).
+  int spacing_px = 8;
+  int measure_spacing_px = 6;
   double min_coverage = 0.25;  // each edge found on at least this much of its prediction
   CornerMotionOptions motion;
 };

@@ -74,8 +74,7 @@ SequenceStats RunSequence(const CameraIntrinsics& k, const Drive& drive, uint64_
     const auto start = std::chrono::steady_clock::now();
     const auto got = tracker.Process(frame, t);
     const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     ++s.frames;
     const auto detected = LocateCorner(frame, k, path.ceiling_distance_m);
     if (detected) s.detected_rel.push_back(HorizontalRelError(detected->pose, truth));
@@ -107,9 +106,9 @@ void JudgeSeed(uint64_t seed) {
       // Frame 0 and every 30th are detections by design: they count as not tracked.
       const double tracked = static_cast<double>(s.tracked) / s.frames;
       const double posed = static_cast<double>(s.with_pose) / s.frames;
-      std::cout << lens_names[lens] << ", " << drive.speed_mps << " m/s, "
-                << drive.turn_deg_per_s << " deg/s: tracked " << 100 * tracked << " %, pose "
-                << 100 * posed << " %, horizontal error median/p95 tracked "
+      std::cout << lens_names[lens] << ", " << drive.speed_mps << " m/s, " << drive.turn_deg_per_s
+                << " deg/s: tracked " << 100 * tracked << " %, pose " << 100 * posed
+                << " %, horizontal error median/p95 tracked "
                 << 100 * Percentile(s.tracked_rel, 0.5) << " / "
                 << 100 * Percentile(s.tracked_rel, 0.95) << " %, detected "
                 << 100 * Percentile(s.detected_rel, 0.5) << " / "
@@ -121,10 +120,8 @@ void JudgeSeed(uint64_t seed) {
       EXPECT_GE(posed, 0.95);
       EXPECT_EQ(s.unflagged_over_5pct, 0);
       // As accurate as detection: within a quarter (or 0.05 % of the distance) of it.
-      EXPECT_LE(Percentile(s.tracked_rel, 0.5),
-                1.25 * Percentile(s.detected_rel, 0.5) + 0.0005);
-      EXPECT_LE(Percentile(s.tracked_rel, 0.95),
-                1.25 * Percentile(s.detected_rel, 0.95) + 0.0005);
+      EXPECT_LE(Percentile(s.tracked_rel, 0.5), 1.25 * Percentile(s.detected_rel, 0.5) + 0.0005);
+      EXPECT_LE(Percentile(s.tracked_rel, 0.95), 1.25 * Percentile(s.detected_rel, 0.95) + 0.0005);
     }
   }
 }
