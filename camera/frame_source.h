@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "service/common/result.h"
@@ -26,6 +27,12 @@ struct Frame {
   // Holds the source's buffer while the frame lives; releasing it returns the buffer.
   std::shared_ptr<void> keepalive;
 };
+
+// The frame's capture time in seconds, for motion models; unset when the source gave none.
+inline std::optional<double> CaptureTimeS(const Frame& frame) {
+  if (frame.capture_time_ns == 0) return std::nullopt;
+  return 1e-9 * static_cast<double>(frame.capture_time_ns);
+}
 
 // The one rule for camera errors. A configuration the camera cannot take (a GenICam feature
 // it does not have, a value outside its range, a pixel format it does not offer) will not

@@ -22,10 +22,21 @@ CornerPose DrivingPoseAt(const DrivingPath& path, double t_s) {
   pose.z_m = path.ceiling_distance_m;
   // pan atan2(x, -y) and tilt atan2(horizontal distance, z) put the corner on the optical axis.
   pose.pan_rad = std::atan2(x, -y) + sway_rad;
-  pose.tilt_rad =
-      std::atan2(std::hypot(x, y), path.ceiling_distance_m) + pi / 180 * std::sin(2 * pi * t / 1.3);
-  pose.swing_rad = 0.5 * pi / 180 * std::sin(2 * pi * t / 0.9 + 1);
+  pose.tilt_rad = std::atan2(std::hypot(x, y), path.ceiling_distance_m) +
+                  pi / 180 * std::sin(2 * pi * t / path.pitch_period_s);
+  pose.swing_rad = 0.5 * pi / 180 * std::sin(2 * pi * t / path.roll_period_s + 1);
   return pose;
+}
+
+DrivingPath ClosedDrivingPath(double speed_mps, double turn_deg_per_s, double lap_s) {
+  DrivingPath path;
+  path.speed_mps = speed_mps;
+  path.turn_deg_per_s = turn_deg_per_s;
+  path.loop_radius_m = std::max(speed_mps * lap_s / (2 * std::numbers::pi), 1e-6);
+  path.sway_period_s = lap_s;
+  path.pitch_period_s = lap_s;  // one nod and one roll a lap: a short lap must not jitter
+  path.roll_period_s = lap_s;
+  return path;
 }
 
 double PeakPanRateRadPerS(const DrivingPath& path, double t0_s, double t1_s, double dt_s) {

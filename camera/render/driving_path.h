@@ -18,8 +18,14 @@ struct DrivingPath {
   double loop_centre_distance_m = 2.6;  // ... this far from the corner, horizontally
   double loop_bearing_rad = std::numbers::pi / 4;  // its centre's direction in the corner frame
   double sway_period_s = 2.0;                      // of the heading's sway
+  double pitch_period_s = 1.3;                     // of the 1 degree pitch
+  double roll_period_s = 0.9;                      // of the 0.5 degree roll
   double start_s = 0;                              // where on the loop time 0 is
 };
+
+// A path that comes back to where it started, as it was, every `lap_s` seconds: the loop, the
+// sway, the pitch and the roll all repeat in that time (for a camera that plays a lap forever).
+DrivingPath ClosedDrivingPath(double speed_mps, double turn_deg_per_s, double lap_s);
 
 // The camera's pose at time `t_s` (seconds): position on the loop, pan aimed at the corner plus
 // the sway, tilt aimed at the corner plus a 1 degree pitch, swing a 0.5 degree roll.

@@ -42,5 +42,19 @@ TEST(DrivingPathTest, ThePathIsContinuousAndEndless) {
   }
 }
 
+TEST(DrivingPathTest, AClosedPathComesBackAsItWasAfterALap) {
+  const DrivingPath path = ClosedDrivingPath(0.6, 25, 16.0 / 30);
+  for (double t : {0.0, 0.1, 0.37}) {
+    const CornerPose a = DrivingPoseAt(path, t), b = DrivingPoseAt(path, t + 16.0 / 30);
+    EXPECT_NEAR(a.x_m, b.x_m, 1e-9);
+    EXPECT_NEAR(a.y_m, b.y_m, 1e-9);
+    EXPECT_NEAR(a.pan_rad, b.pan_rad, 1e-9);
+    EXPECT_NEAR(a.tilt_rad, b.tilt_rad, 1e-9);
+    EXPECT_NEAR(a.swing_rad, b.swing_rad, 1e-9);
+  }
+  const CornerPose a = DrivingPoseAt(path, 0), b = DrivingPoseAt(path, 1.0 / 30);
+  EXPECT_NEAR(std::hypot(b.x_m - a.x_m, b.y_m - a.y_m), 0.6 / 30, 1e-3);
+}
+
 }  // namespace
 }  // namespace monocle

@@ -1,5 +1,7 @@
 #include "camera/sim/sim_gv_camera.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -11,6 +13,7 @@
 #include "camera/aravis/aravis_source.h"
 #include "camera/aravis/tsan_handoff.h"
 #include "camera/render/corner_renderer.h"
+#include "camera/render/driving_path.h"
 #include "camera/render/floor_renderer.h"
 #include "camera/render/room_renderer.h"
 #include "service/io/bounded_file.h"
@@ -119,12 +122,21 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   }
   if (!(o.fps > 0 && o.fps <= 1000))
     return MakeError(ErrorCode::kInvalidArgument, "--fps must be in (0, 1000]");
+  if (!(o.speed_mps >= 0 && o.speed_mps <= 5))
+    return MakeError(ErrorCode::kInvalidArgument, "--speed must be 0 to 5 m/s");
+  if (!(o.turn_deg_per_s >= 0 && o.turn_deg_per_s <= 180))
+    return MakeError(ErrorCode::kInvalidArgument, "--turn must be 0 to 180 deg/s");
   // Aravis's fake cameras keep the serial in a 16-byte GenICam register (with its NUL); a
   // longer one leaves the device without GenICam data and Aravis only logs criticals.
   if (o.serial.empty() || o.serial.size() > 15) {
     return MakeError(ErrorCode::kInvalidArgument,
                      "--serial '" + o.serial.substr(0, 40) + "' must be 1 to 15 characters");
   }
+  // Rendering takes tens of MB of working images (the undistortion grid, the supersampled
+  // edges), free once done; a service keeps freed memory (monocled's mallopt): given back.
+  struct GiveBackOnReturn {
+    ~GiveBackOnReturn() { malloc_trim(0); }
+  } give_back;
   std::shared_ptr<SimScenes> cam(new SimScenes());
   cam->options_ = o;
   if (o.scene == SimScene::kRoom) {
@@ -149,13 +161,12 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   cam->intrinsics_ = SimIntrinsics(o.width, o.height);
   const int n = o.trajectory.empty() ? std::max(o.trajectory_frames, 1)
                                      : static_cast<int>(o.trajectory.size());
-  // A robot driving past the corner, 1.6 m below the ceiling, camera aimed near it.
+  // A robot driving a lap under the corner, 1.6 m below the ceiling, camera aimed near it.
+  DrivingPath path = ClosedDrivingPath(o.speed_mps, o.turn_deg_per_s, n / o.fps);
+  path.ceiling_distance_m = kSimCeilingDistanceM;
   for (int i = 0; i < n; ++i) {
-    const double t = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
-    CornerPose p{1.6 + 1.2 * t,  2.4 - 0.8 * t,           kSimCeilingDistanceM, 0,
-                 0.95 - 0.1 * t, 0.05 * std::sin(6.0 * t)};
-    p.pan_rad = std::atan2(p.x_m, -p.y_m) + 0.08 * std::cos(5.0 * t);
-    cam->corner_poses_.push_back(o.trajectory.empty() ? p : o.trajectory[i]);
+    cam->corner_poses_.push_back(o.trajectory.empty() ? DrivingPoseAt(path, i / o.fps)
+                                                      : o.trajectory[i]);
   }
   cam->floor_pose_ = SimFloorPose();
   for (int i = 0; i < (o.scene == SimScene::kCorner ? n : 2); ++i) {

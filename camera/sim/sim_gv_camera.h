@@ -31,7 +31,12 @@ struct SimCameraOptions {
   std::string serial = "MONOCLE-SIM";  // 1 to 15 characters (a 16-byte register)
   int width = 1280, height = 1024;
   double fps = 30;
-  int trajectory_frames = 16;  // distinct poses; frame id k shows pose k mod this
+  // Corner scene: the built-in trajectory is a robot driving a closed loop under the corner at
+  // this speed, turning this fast on its own, one lap in `trajectory_frames` frames at `fps`:
+  // frame id k shows pose k mod trajectory_frames, and the motion runs on smoothly past the lap.
+  int trajectory_frames = 16;
+  double speed_mps = 0.3;
+  double turn_deg_per_s = 10;
   double noise_sigma = 2;
   // Corner scene: a white-painted room as cameras photograph it (RealisticLook, drawn once
   // from `look_seed`: one room, new sensor noise in every frame) instead of the clean look.

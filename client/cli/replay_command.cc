@@ -242,7 +242,8 @@ int Replay(const ReplayOptions& o, std::vector<ReplayedCamera>& replayed, uint64
     }
     if (first == nullptr) break;
     const Frame frame = std::move(*first->next);
-    const CornerPipelineResult located = first->pipeline->Process(frame.grey, first->calibration);
+    const CornerPipelineResult located =
+        first->pipeline->Process(frame.grey, first->calibration, CaptureTimeS(frame));
     any_failed |= !located.corner.ok();
     PrintPose(o, *first, frame, located);
     progress.Update(++done);

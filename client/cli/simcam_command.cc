@@ -17,8 +17,8 @@ namespace {
 
 constexpr const char* kAbout =
     R"(Serves a simulated GigE Vision camera (Aravis's ArvGvFakeCamera) on a local address whose
-frames are rendered scenes: `corner` a ceiling corner seen from a robot moving along a
-trajectory of N poses (frame id k shows pose k mod N), `floor` a chessboard and a box on
+frames are rendered scenes: `corner` a ceiling corner seen from a robot driving a closed loop
+under it, N frames a lap (frame id k shows pose k mod N), `floor` a chessboard and a box on
 the floor, `room` a robot driving through a room of a map (service/README.md, "Room map"): frame id k
 shows trajectory pose k mod N, seen by a wide lens (f 700 px at 1280 px wide) on the mount.
 Runs until Ctrl-C (SIGINT) or SIGTERM.)";
@@ -41,8 +41,16 @@ void DeclareSimcam(CommandLine& line, SimcamArgs* a) {
   line.Whole("--width", &o.width, "W", "image width", In("pixels").AtLeast(1));
   line.Whole("--height", &o.height, "H", "image height", In("pixels").AtLeast(1));
   line.Number("--fps", &o.fps, "F", "frame rate", In("Hz").Above(0));
-  line.Whole("--frames", &o.trajectory_frames, "N", "poses on the built-in trajectory",
-             In("poses").AtLeast(1));
+  line.Whole("--frames", &o.trajectory_frames, "N",
+             "corner: frames in one lap of the built-in drive (a closed loop, so frame id k "
+             "shows pose k mod N and the motion runs on past the lap)",
+             In("frames").AtLeast(1));
+  line.Number("--speed", &o.speed_mps, "V", "corner: the robot's speed on the built-in drive",
+              In("m/s").AtLeast(0));
+  line.Number("--turn", &o.turn_deg_per_s, "W",
+              "corner: the peak rate of the robot's own turning on the built-in drive, on top "
+              "of keeping the corner in view",
+              In("deg/s").AtLeast(0));
   line.Text("--trajectory", &a->trajectory_path, "FILE",
             "corner: poses to drive through instead, one a line: x,y,z,pan,tilt,swing (metres, "
             "radians, corner frame); room: the robot base's poses, x_m y_m heading_deg a line "

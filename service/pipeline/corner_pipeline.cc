@@ -46,7 +46,8 @@ void CornerPipeline::UpdateTracker(const CameraIntrinsics& intrinsics, double ce
 }
 
 CornerPipelineResult CornerPipeline::Process(const cv::Mat& grey,
-                                             const CameraCalibration& calibration) {
+                                             const CameraCalibration& calibration,
+                                             std::optional<double> capture_time_s) {
   const CameraIntrinsics& intrinsics = calibration.intrinsics;
   const double ceiling_m = CeilingDistanceM(calibration);
   const CornerQualityOptions quality = QualityOf(calibration);
@@ -55,7 +56,7 @@ CornerPipelineResult CornerPipeline::Process(const cv::Mat& grey,
   // located on its own (and fails for want of a ceiling distance).
   if (options_.track && ceiling_m > 0) {
     UpdateTracker(intrinsics, ceiling_m, quality);
-    out.corner = tracker_->Process(grey);
+    out.corner = tracker_->Process(grey, capture_time_s);
   } else {
     out.corner = LocateCorner(grey, intrinsics, ceiling_m, {}, quality);
   }

@@ -47,9 +47,10 @@ class CornerPipeline {
  public:
   explicit CornerPipeline(CornerPipelineOptions options);
 
-  // One frame taken with `calibration`. New intrinsics, ceiling distance or roll limit start
-  // the tracker afresh.
-  CornerPipelineResult Process(const cv::Mat& grey, const CameraCalibration& calibration);
+  // One frame taken with `calibration` at `capture_time_s` (any clock, seconds; unset: 1/30 s
+  // after the last). New intrinsics, ceiling distance or roll limit start the tracker afresh.
+  CornerPipelineResult Process(const cv::Mat& grey, const CameraCalibration& calibration,
+                               std::optional<double> capture_time_s = std::nullopt);
   // A frame that could not be read: the next one is detected, and the map's prior ages.
   void Missed();
 

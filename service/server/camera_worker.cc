@@ -181,7 +181,7 @@ void CameraWorker::Process() {
     out.sequence = frame.sequence;
     out.capture_time_ns = frame.capture_time_ns;
     out.camera_clock = frame.time_source == TimeSource::kCamera;
-    CornerPipelineResult result = pipeline_->Process(frame.grey, calibration);
+    CornerPipelineResult result = pipeline_->Process(frame.grey, calibration, CaptureTimeS(frame));
     out.corner = std::move(result.corner);
     out.map = std::move(result.map);
     out.processing_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(

@@ -191,7 +191,9 @@ camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtx
             << " detected in both (bit for bit)\n";
   // Under ThreadSanitizer the recorder keeps about half the frames (below): 20 comparisons.
   EXPECT_GE(compared, testing::kThreadSanitizer ? 20 : 30);
-  EXPECT_GE(identical_detections, 10);
+  // The simulated camera drives smoothly, so most frames are tracked: a detection starts the
+  // run and comes every 30th frame.
+  EXPECT_GE(identical_detections, 1);
   // Under ThreadSanitizer every memory access is instrumented and a 1.3 MB frame's copy into
   // the recording takes ten times as long: the recorder keeps fewer frames there, and only
   // "most frames recorded" is asserted.
