@@ -1,6 +1,8 @@
 // Corner pose per 1280x1024 frame on one core, beside the baseline a user would write:
 // OpenCV Canny + HoughLines on the same frames (72 distinct: clean, cluttered, realistic).
-// Goals (issues 3 and 11): full detection <= 0.4x the baseline; tracking <= 1 ms per frame.
+// Beside OpenCV contrib's FastLineDetector and EdgeDrawing too (segments only, no pose).
+// Goals (issues 11 and 62): full detection <= 0.4x Canny + HoughLines and <= 0.45x
+// FastLineDetector; tracking <= 0.3 ms per frame.
 // Failed frames are counted, and their time is counted too (a failure is not free).
 // Run: taskset -c 0 build/bench/corner_bench
 // Whole processes (start-up and image decoding included): build/bench/corner_process_bench.
@@ -13,11 +15,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench/corner_bench_frames.h"
+#include "bench/line_baselines.h"
 #include "service/geometry/mount_fit.h"
 #include "service/geometry/robot_test_scenes.h"
 #include "service/vision/corner_level.h"
 #include "service/vision/corner_rays.h"
 #include "service/vision/corner_tracker.h"
+#include "camera/render/driving_path.h"
 #include "service/vision/edge_profile.h"
 
 namespace monocle {
@@ -167,6 +171,53 @@ BENCHMARK(BM_InterleavedRatio)
     ->Args({2, 20, 60, 60})
     ->Unit(benchmark::kMillisecond);
 
+// Beside OpenCV contrib's segment finders on the same frames, alternately (as above):
+// FastLineDetector and EdgeDrawing with their documented defaults. They return segments,
+// not a corner: the edges' cost alone. Arguments: the kind of frame (as above), the method
+// (1 FastLineDetector, 2 EdgeDrawing).
+void BM_InterleavedVsSegments(benchmark::State& state) {
+  cv::setNumThreads(1);
+  static const char* kKinds[] = {"clean", "cluttered", "realistic"};
+  std::vector<const bench::BenchFrame*> frames;
+  for (const auto& f : Frames())
+    if (state.range(0) == 3 || f.kind == kKinds[state.range(0)]) frames.push_back(&f);
+  const auto method = static_cast<bench::LineMethod>(state.range(1));
+  bench::LineFinder finder(method);
+  const auto k = testing::PaperCamera();
+  double ours_s = 0, theirs_s = 0;
+  size_t i = 0, round = 0, segments = 0;
+  for (auto _ : state) {
+    const auto& f = *frames[i];
+    auto time_ours = [&] {
+      const auto t0 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(LocateCorner(f.image, k, f.truth.z_m));
+      ours_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    auto time_theirs = [&] {
+      const auto t0 = std::chrono::steady_clock::now();
+      segments += finder.Find(f.image);
+      theirs_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    if (round % 2 == 0) {
+      time_ours();
+      time_theirs();
+    } else {
+      time_theirs();
+      time_ours();
+    }
+    if (++i == frames.size()) i = 0, ++round;
+  }
+  state.counters["monocle_ms"] = 1e3 * ours_s / state.iterations();
+  state.counters["baseline_ms"] = 1e3 * theirs_s / state.iterations();
+  state.counters["ratio"] = ours_s / theirs_s;
+  state.counters["segments"] = static_cast<double>(segments) / state.iterations();
+  state.SetLabel(std::string(state.range(0) == 3 ? "all" : kKinds[state.range(0)]) + ", " +
+                 bench::LineMethodName(method));
+}
+BENCHMARK(BM_InterleavedVsSegments)
+    ->ArgsProduct({{2, 3}, {1, 2}})
+    ->Unit(benchmark::kMillisecond);
+
 // Tracking along a realistic trajectory (1 cm and 0.25 degrees of pan per frame): every
 // timed frame is tracked from the previous one (no periodic re-detection).
 void BM_Tracking(benchmark::State& state) {
@@ -209,6 +260,47 @@ void BM_Tracking(benchmark::State& state) {
   state.SetLabel("predict the three edges from the last pose, measure, refine");
 }
 BENCHMARK(BM_Tracking)->Unit(benchmark::kMillisecond);
+
+// How many 30 fps 1280x1024 corner cameras one core keeps up with: a realistic drive
+// (0.6 m/s, 25 deg/s, 4 ms motion blur, the paper's lens) through the tracker as monocled runs
+// it (a full detection every 30th frame and whenever tracking fails), every frame timed.
+// cameras_per_core = (1 s / 30) / the mean time per frame.
+void BM_CamerasPerCore(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const auto k = testing::PaperCamera();
+  static const auto drive = [&] {
+    DrivingPath path;
+    path.speed_mps = 0.6;
+    path.turn_deg_per_s = 25;
+    CornerScene scene;
+    scene.room_height_m = path.ceiling_distance_m + 1.2;
+    scene.realistic = RandomRealisticLook(21, k);
+    scene.motion_samples = 3;
+    std::vector<cv::Mat> frames;
+    for (int i = 0; i < 90; ++i) {
+      scene.exposure_end_pose = DrivingPoseAt(path, i / 30.0 + 0.002);
+      scene.seed = 900 + i;
+      frames.push_back(RenderCornerScene(k, DrivingPoseAt(path, i / 30.0 - 0.002), scene));
+    }
+    return frames;
+  }();
+  CornerTracker tracker(k, DrivingPath{}.ceiling_distance_m);
+  size_t i = 0, tracked = 0, posed = 0, lap = 0;
+  for (auto _ : state) {
+    // Laps run on in time, so the motion model sees one continuous drive per lap.
+    if (i == 0) tracker.Reset();
+    const auto r = tracker.Process(drive[i], (lap * drive.size() + i) / 30.0);
+    posed += r.ok();
+    tracked += r.ok() && r->source == CornerSource::kTracked;
+    if (++i == drive.size()) i = 0, ++lap;
+  }
+  state.counters["tracked"] = static_cast<double>(tracked) / state.iterations();
+  state.counters["with_pose"] = static_cast<double>(posed) / state.iterations();
+  state.counters["cameras_per_core"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) / 30.0, benchmark::Counter::kIsRate);
+  state.SetLabel("90-frame realistic drive, tracked as monocled does, frames per second / 30");
+}
+BENCHMARK(BM_CamerasPerCore)->Unit(benchmark::kMillisecond);
 
 // The check that no edge stronger than the Y's weakest leaves the corner (corner_rays.h),
 // part of every pose above, detected or tracked: its share of a frame's time.

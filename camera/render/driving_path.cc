@@ -33,9 +33,12 @@ DrivingPath ClosedDrivingPath(double speed_mps, double turn_deg_per_s, double la
   path.speed_mps = speed_mps;
   path.turn_deg_per_s = turn_deg_per_s;
   path.loop_radius_m = std::max(speed_mps * lap_s / (2 * std::numbers::pi), 1e-6);
-  path.sway_period_s = lap_s;
-  path.pitch_period_s = lap_s;  // one nod and one roll a lap: a short lap must not jitter
-  path.roll_period_s = lap_s;
+  // Whole numbers of sways, nods and rolls a lap, each about 2 s or less: a long sway at a
+  // given turn rate would swing the corner out of view.
+  const double cycles = std::max(1.0, std::round(lap_s / 2.0));
+  path.sway_period_s = lap_s / cycles;
+  path.pitch_period_s = lap_s / cycles;
+  path.roll_period_s = lap_s / cycles;
   return path;
 }
 

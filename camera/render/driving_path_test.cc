@@ -54,6 +54,15 @@ TEST(DrivingPathTest, AClosedPathComesBackAsItWasAfterALap) {
   }
   const CornerPose a = DrivingPoseAt(path, 0), b = DrivingPoseAt(path, 1.0 / 30);
   EXPECT_NEAR(std::hypot(b.x_m - a.x_m, b.y_m - a.y_m), 0.6 / 30, 1e-3);
+  // A long lap sways several times rather than once, far: the corner stays within 15 degrees
+  // of the optical axis at 45 deg/s.
+  const DrivingPath long_lap = ClosedDrivingPath(1.0, 45, 10.0);
+  EXPECT_NEAR(DrivingPoseAt(long_lap, 0).pan_rad, DrivingPoseAt(long_lap, 10.0).pan_rad, 1e-9);
+  for (double t = 0; t < 10; t += 0.05) {
+    const CornerPose p = DrivingPoseAt(long_lap, t);
+    const Eigen::Vector3d c = CornerToCamera(p, Eigen::Vector3d::Zero());
+    EXPECT_LT(std::atan2(c.head<2>().norm(), c.z()), 15 * M_PI / 180) << "at " << t << " s";
+  }
 }
 
 }  // namespace
