@@ -16,12 +16,12 @@
 
 #include "bench/corner_bench_frames.h"
 #include "bench/line_baselines.h"
+#include "camera/render/driving_path.h"
 #include "service/geometry/mount_fit.h"
 #include "service/geometry/robot_test_scenes.h"
 #include "service/vision/corner_level.h"
 #include "service/vision/corner_rays.h"
 #include "service/vision/corner_tracker.h"
-#include "camera/render/driving_path.h"
 #include "service/vision/edge_profile.h"
 
 namespace monocle {
@@ -214,9 +214,7 @@ void BM_InterleavedVsSegments(benchmark::State& state) {
   state.SetLabel(std::string(state.range(0) == 3 ? "all" : kKinds[state.range(0)]) + ", " +
                  bench::LineMethodName(method));
 }
-BENCHMARK(BM_InterleavedVsSegments)
-    ->ArgsProduct({{2, 3}, {1, 2}})
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_InterleavedVsSegments)->ArgsProduct({{2, 3}, {1, 2}})->Unit(benchmark::kMillisecond);
 
 // Tracking along a realistic trajectory (1 cm and 0.25 degrees of pan per frame): every
 // timed frame is tracked from the previous one (no periodic re-detection).

@@ -46,8 +46,7 @@ class LineFinder {
  public:
   explicit LineFinder(LineMethod method, CannyHoughSettings canny_hough = {})
       : method_(method), canny_hough_(canny_hough) {
-    if (method == LineMethod::kFastLineDetector)
-      fld_ = cv::ximgproc::createFastLineDetector();
+    if (method == LineMethod::kFastLineDetector) fld_ = cv::ximgproc::createFastLineDetector();
     if (method == LineMethod::kEdgeDrawing) edge_drawing_ = cv::ximgproc::createEdgeDrawing();
   }
 

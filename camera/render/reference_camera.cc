@@ -38,16 +38,35 @@ std::vector<cv::Point2d> UndistortPixels(const CameraIntrinsics& k,
   return out;
 }
 
+namespace {
+
+using GridKey = std::array<double, 14>;  // size, fx fy cx cy, eight distortion terms
+struct GridEntry {
+  GridKey key;
+  cv::Mat grid;
+};
+std::mutex grid_mutex;
+std::deque<GridEntry> grid_cache;
+int grid_scopes = 0;
+
+}  // namespace
+
+PixelGridCacheScope::PixelGridCacheScope() {
+  std::lock_guard<std::mutex> lock(grid_mutex);
+  ++grid_scopes;
+}
+
+PixelGridCacheScope::~PixelGridCacheScope() {
+  std::lock_guard<std::mutex> lock(grid_mutex);
+  if (--grid_scopes == 0) grid_cache.clear();
+}
+
 cv::Mat UndistortedPixelGrid(const CameraIntrinsics& k) {
   // cv::undistortPoints over a million pixels takes ~2 s; a test set renders hundreds of
   // views through one camera, so the last few grids are kept (read-only, shared).
-  using Key = std::array<double, 14>;  // size, fx fy cx cy, eight distortion terms
-  struct Entry {
-    Key key;
-    cv::Mat grid;
-  };
-  static std::mutex mutex;
-  static std::deque<Entry> cache;
+  using Key = GridKey;
+  auto& mutex = grid_mutex;
+  auto& cache = grid_cache;
   Key key{
       static_cast<double>(k.width_px), static_cast<double>(k.height_px), k.fx, k.fy, k.cx, k.cy};
   std::copy(k.distortion.begin(), k.distortion.end(), key.begin() + 6);

@@ -34,6 +34,17 @@ std::vector<cv::Point2d> UndistortPixels(const CameraIntrinsics& k,
 // the last few grids are cached, so never write into the result.
 cv::Mat UndistortedPixelGrid(const CameraIntrinsics& k);
 
+// The grids above are cached (21 MB for a 1280 x 1024 lens). While a scope lives they stay;
+// when the last one ends the cache is emptied: a service renders its simulated cameras once at
+// start-up and must not keep them. (Without any scope the cache keeps the last four.)
+class PixelGridCacheScope {
+ public:
+  PixelGridCacheScope();
+  ~PixelGridCacheScope();
+  PixelGridCacheScope(const PixelGridCacheScope&) = delete;
+  PixelGridCacheScope& operator=(const PixelGridCacheScope&) = delete;
+};
+
 // p_camera = R * (p_corner - position), camera frame OpenCV's (x right, y down, z forward).
 Eigen::Matrix3d RotationCameraFromCorner(const CornerPose& pose);
 

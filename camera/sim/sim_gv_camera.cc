@@ -15,6 +15,7 @@
 #include "camera/render/corner_renderer.h"
 #include "camera/render/driving_path.h"
 #include "camera/render/floor_renderer.h"
+#include "camera/render/reference_camera.h"
 #include "camera/render/room_renderer.h"
 #include "service/io/bounded_file.h"
 
@@ -137,6 +138,7 @@ Result<std::shared_ptr<SimScenes>> SimScenes::Render(const SimCameraOptions& o) 
   struct GiveBackOnReturn {
     ~GiveBackOnReturn() { malloc_trim(0); }
   } give_back;
+  const reference::PixelGridCacheScope grids;  // ends before give_back: the grids go too
   std::shared_ptr<SimScenes> cam(new SimScenes());
   cam->options_ = o;
   if (o.scene == SimScene::kRoom) {
