@@ -7,8 +7,8 @@ a 20 000-point floor query (as many as a command line holds comfortably), a one-
 MB, threads, descriptors); the report gives first and last values and the least-squares slope
 per hour after the first minute (start-up excluded). Exit status 1 when a client failed.
 
-  build/bench/soak.py --duration 3600            # the one-hour soak (issue 62)
-  build/bench/soak.py --duration 120 --csv s.csv # a quick look
+  bench/soak.py --duration 3600            # the one-hour soak (issue 62), binaries in build/
+  bench/soak.py --duration 120 --csv s.csv # a quick look
 """
 import argparse
 import os
@@ -42,8 +42,7 @@ def slope_per_hour(times, values):
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
-    build = os.path.dirname(here) if os.path.basename(here) == "bench" else here
+    build = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "build")
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--duration", type=float, default=3600, help="seconds (default 3600)")
     parser.add_argument("--interval", type=float, default=10, help="seconds between samples")

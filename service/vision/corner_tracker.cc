@@ -137,10 +137,12 @@ Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey,
     const double gate_px = std::clamp(3 * sigma_px[axis], options_.search_half_width_px,
                                       options_.max_search_half_width_px);
     std::vector<EdgePointSample> samples;
-    // Stretches of 8 points, every other one: enough to place the line the locator measures
-    // again along its whole length.
+    // Stretches of 8 points, at most kStretches spread along the edge: enough to place the
+    // line the locator measures again along its whole length.
+    constexpr size_t kStretches = 5;
+    const size_t stride = std::max<size_t>(16, (positions.size() + kStretches - 1) / kStretches);
     size_t searched = 0;
-    for (size_t begin = 0; begin < positions.size(); begin += 16) {
+    for (size_t begin = 0; begin < positions.size(); begin += stride) {
       const size_t end = std::min(positions.size(), begin + 8);
       // Near the corner the other two edges are close: the search stops short of them.
       double half_width = gate_px;
