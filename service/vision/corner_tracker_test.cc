@@ -169,3 +169,34 @@ TEST(PredictEdgePxTest, EveryPixelLooksAtTheAxisThroughTheLens) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+// The gate's width: the pose's uncertainty carried to pixels across each edge. Moving the
+// camera along the corner's X axis slides the X edge along itself (it does not move across),
+// while the Y and Z edges move; and the width grows in proportion to the uncertainty.
+TEST(EdgeSigmaTest, ACameraSlidingAlongAnEdgeLeavesThatEdgeInPlace) {
+  const CameraIntrinsics k = testing::PaperCamera();
+  CornerPrediction prediction;
+  prediction.pose = CornerPose{2.0, 1.5, 1.6, 2.2143, 0.9, 0.1};
+  prediction.sigma << 0.01, 0, 0, 0, 0;  // 1 cm along x only
+  const auto along_x = EdgeSigmaPx(k, prediction);
+  EXPECT_LT(along_x[0], 0.01) << "the X edge";
+  EXPECT_GT(along_x[1], 1.0) << "the Y edge";
+  EXPECT_GT(along_x[2], 1.0) << "the Z edge";
+  prediction.sigma *= 2;
+  const auto doubled = EdgeSigmaPx(k, prediction);
+  for (int axis = 1; axis < 3; ++axis)
+    EXPECT_NEAR(doubled[axis], 2 * along_x[axis], 0.02 * along_x[axis]);
+  // A turn of the camera moves every edge across itself: 0.01 rad of pan at f 1624 px is
+  // up to about 16 px.
+  prediction.sigma << 0, 0, 0.01, 0, 0;
+  for (double px : EdgeSigmaPx(k, prediction)) {
+    EXPECT_GT(px, 3);
+    EXPECT_LT(px, 30);
+  }
+}
+
+}  // namespace
+}  // namespace monocle
