@@ -19,8 +19,10 @@ role, state (streaming, reconnecting, stopped), frames per second, frames receiv
 (sent by the camera, never received), skipped (not processed because processing was busy),
 processing latency (frame received -> result published, median over the status period, ms),
 and the last error (with --json also the DDS participant each status came from, which tells
-apart two services giving one service id). Exit status 1 when a camera has failed (a configuration error, e.g. a
-device that is no camera: it is not retried) or two monocled serve the same namespace.)";
+apart two services giving one service id). Exit status 1 when a camera has failed (a
+configuration error, e.g. a device that is no camera: it is not retried) or stopped (a
+replayed recording ended), or two monocled serve the same namespace: the container's
+healthcheck.)";
 
 proto::StatusOutput ToOutput(const CameraStatus& s) {
   proto::StatusOutput out;
@@ -92,12 +94,18 @@ int StatusCommand(const std::vector<std::string>& argv) {
                  "(service/README.md, \"Several robots on one domain\")\n";
     exit_status = kExitFailure;
   }
-  // A camera that failed for good (a configuration error) makes the service unhealthy: the
-  // container's healthcheck runs this command.
+  // A camera that failed for good (a configuration error) or stopped (it sends nothing until
+  // the service restarts) makes the service unhealthy: the container's healthcheck runs this.
   for (const auto& s : *current) {
-    if (s.state != CameraState::kFailed) continue;
-    std::cerr << "monocle: error: camera '" << s.camera_id << "' failed: " << s.last_error << "\n";
-    exit_status = kExitFailure;
+    if (s.state == CameraState::kFailed) {
+      std::cerr << "monocle: error: camera '" << s.camera_id << "' failed: " << s.last_error
+                << "\n";
+      exit_status = kExitFailure;
+    } else if (s.state == CameraState::kStopped) {
+      std::cerr << "monocle: error: camera '" << s.camera_id << "' is stopped"
+                << (s.last_error.empty() ? "" : ": " + s.last_error) << "\n";
+      exit_status = kExitFailure;
+    }
   }
   if (!watch) return exit_status;
 

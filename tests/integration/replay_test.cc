@@ -242,6 +242,12 @@ camera { id: "corner" device: "sim-corner" role: CORNER calibration: "floor.pbtx
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   EXPECT_TRUE(stopped) << last_status << "\n" << testing::ReadFile(dir_ / "replay.log");
+  // A stopped camera makes the service unhealthy: `monocle status`, the container's
+  // healthcheck, exits 1 and names it.
+  const auto health =
+      RunMonocle(dir_, "status --timeout 10 --domain " + std::to_string(kReplayDomain));
+  EXPECT_EQ(health.exit_code, 1) << health.out << health.err;
+  EXPECT_NE(health.err.find("camera 'corner' is stopped"), std::string::npos) << health.err;
   served_sub->stop();
   EXPECT_EQ(replaying->Stop(), 0) << testing::ReadFile(dir_ / "replay.log");
   std::lock_guard lock(served_mutex);
