@@ -1,6 +1,7 @@
 #include "service/vision/corner_tracker.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 
@@ -82,7 +83,28 @@ std::array<double, 3> EdgeSigmaPx(const CameraIntrinsics& k, const CornerPredict
   return sigma_px;
 }
 
+std::set<std::string> SuspectReasonKinds(const std::string& reason) {
+  std::set<std::string> kinds;
+  size_t begin = 0;
+  while (begin < reason.size()) {
+    size_t end = reason.find("; ", begin);
+    if (end == std::string::npos) end = reason.size();
+    size_t cut = begin;
+    while (cut < end && reason[cut] != ':' &&
+           !std::isdigit(static_cast<unsigned char>(reason[cut])))
+      ++cut;
+    while (cut > begin && reason[cut - 1] == ' ') --cut;
+    kinds.insert(reason.substr(begin, cut - begin));
+    begin = end + 2;
+  }
+  return kinds;
+}
+
 namespace {
+
+bool IsSubset(const std::set<std::string>& part, const std::set<std::string>& whole) {
+  return std::includes(whole.begin(), whole.end(), part.begin(), part.end());
+}
 
 // Distance from `p` to the half-line from `origin` along unit `direction`, pixels.
 double DistanceToRay(const Eigen::Vector2d& p, const Eigen::Vector2d& origin,
@@ -108,6 +130,7 @@ void CornerTracker::Reset() {
   motion_.Reset();
   have_pose_ = false;
   frames_since_detection_ = 0;
+  detection_suspect_kinds_.clear();
 }
 
 Result<CornerLocation> CornerTracker::Track(const cv::Mat& grey,
@@ -196,7 +219,10 @@ Result<CornerLocation> CornerTracker::Process(const cv::Mat& grey,
   const auto prediction = motion_.Predict(time_s_);
   if (!detect_now && prediction) {
     auto tracked = Track(grey, *prediction);
-    if (tracked && !tracked->suspect) {
+    // Suspect only for what the detection that started this track was suspect for: the
+    // view's own verdict (flagged as such), not a sign the track was lost.
+    if (tracked && (!tracked->suspect || IsSubset(SuspectReasonKinds(tracked->suspect_reason),
+                                                  detection_suspect_kinds_))) {
       ++frames_since_detection_;
       motion_.Update(tracked->pose, time_s_);
       return tracked;
@@ -209,6 +235,8 @@ Result<CornerLocation> CornerTracker::Process(const cv::Mat& grey,
   if (detected) {
     have_pose_ = true;
     motion_.Update(detected->pose, time_s_);
+    detection_suspect_kinds_ =
+        detected->suspect ? SuspectReasonKinds(detected->suspect_reason) : std::set<std::string>{};
     noise_sigma_grey_ = detected->edges.noise_sigma_grey;
     measurement_noise_grey_ = detected->edges.measurement_noise_grey;
     detected->source = CornerSource::kDetected;

@@ -8,6 +8,7 @@
 #include <array>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,10 @@ struct CornerTrackerOptions {
 // the largest along its visible part): the pose's uncertainty carried through the lens.
 std::array<double, 3> EdgeSigmaPx(const CameraIntrinsics& k, const CornerPrediction& prediction);
 
+// The kinds of reason a suspect pose names (CornerLocation::suspect_reason, "; " between
+// them): each reason up to its first ':' or figure, e.g. "the edges' steps do not add up".
+std::set<std::string> SuspectReasonKinds(const std::string& reason);
+
 class CornerTracker {
  public:
   CornerTracker(const CameraIntrinsics& intrinsics, double ceiling_distance_m,
@@ -75,6 +80,9 @@ class CornerTracker {
   double noise_sigma_grey_ = 0, measurement_noise_grey_ = 0;
   int frames_since_detection_ = 0;
   std::string fallback_reason_;
+  // What the detection that started this track was suspect for (empty: it was not). A
+  // tracked pose suspect for nothing else is kept, flagged, instead of detecting again.
+  std::set<std::string> detection_suspect_kinds_;
 };
 
 }  // namespace monocle

@@ -200,3 +200,18 @@ TEST(EdgeSigmaTest, ACameraSlidingAlongAnEdgeLeavesThatEdgeInPlace) {
 
 }  // namespace
 }  // namespace monocle
+
+namespace monocle {
+namespace {
+
+TEST(SuspectReasonKindsTest, EachReasonUpToItsFirstFigureOrColon) {
+  const auto kinds = SuspectReasonKinds(
+      "the edges' steps do not add up: 50.8 grey levels across one, 13.1 + 10.7 across the "
+      "others; edge X found on 20 % of its visible length; edge Z contrast 2.1 grey levels");
+  EXPECT_EQ(kinds, (std::set<std::string>{"the edges' steps do not add up", "edge X found on",
+                                          "edge Z contrast"}));
+  EXPECT_TRUE(SuspectReasonKinds("").empty());
+}
+
+}  // namespace
+}  // namespace monocle
