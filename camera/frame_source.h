@@ -24,6 +24,7 @@ struct Frame {
   TimeSource time_source = TimeSource::kHost;
   int64_t device_time_ns = 0;  // the camera's own timestamp, in its clock
   std::string camera_id;
+  std::string frame_id;  // the source's name of its optical frame (a ROS image's); may be empty
   // Holds the source's buffer while the frame lives; releasing it returns the buffer.
   std::shared_ptr<void> keepalive;
 };

@@ -8,6 +8,7 @@
 #include <thread>
 #include <type_traits>
 
+#include "camera/ros/image_sample.h"
 #include "idl/monocle_msgs.h"
 #include "idl/protocol/cdr.h"
 #include "idl/ros2_messages.h"
@@ -20,11 +21,7 @@ constexpr const char* kCamerasChannel = "/monocle/cameras";
 constexpr const char* kCalibrationsChannel = "/monocle/calibrations";
 constexpr const char* kImageLeaf = "/image_raw";
 
-int64_t StampNs(const builtin_interfaces_msg_dds__Time_& t) {
-  return static_cast<int64_t>(t.sec) * 1000000000 + static_cast<int64_t>(t.nanosec);
-}
-
-std::string Str(const char* s) { return s == nullptr ? std::string() : std::string(s); }
+std::string Str(const char* s) { return StringOf(s); }
 
 bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
@@ -169,23 +166,11 @@ Result<std::optional<Frame>> RecordingSource::ReadNext() {
       return MakeError(ErrorCode::kInvalidArgument, where + " is not a sensor_msgs/Image");
     }
     const auto& img = image->get();
-    if (Str(img.encoding) != "mono8") {
-      return MakeError(ErrorCode::kInvalidArgument,
-                       where + " has encoding '" + Str(img.encoding) +
-                           "'; replay takes mono8 frames (what monocle records)");
-    }
-    if (img.width == 0 || img.height == 0 || img.width > 65535 || img.height > 65535 ||
-        img.step < img.width || static_cast<uint64_t>(img.step) * img.height != img.data._length) {
-      return MakeError(ErrorCode::kInvalidArgument,
-                       where + ": its size (" + std::to_string(img.width) + "x" +
-                           std::to_string(img.height) + ", step " + std::to_string(img.step) +
-                           ") does not match its " + std::to_string(img.data._length) + " bytes");
-    }
+    auto grey = GreyOfRosImage(ViewOf(img));  // our own copy: `image` is freed on return
+    if (!grey) return MakeError(ErrorCode::kInvalidArgument, where + ": " + grey.error().message);
     Frame frame;
-    // Our own copy: the decoded sample is freed when `image` goes.
-    frame.grey = cv::Mat(static_cast<int>(img.height), static_cast<int>(img.width), CV_8UC1,
-                         img.data._buffer, img.step)
-                     .clone();
+    frame.grey = std::move(grey).value();
+    frame.frame_id = StringOf(img.header.frame_id);
     frame.capture_time_ns = StampNs(img.header.stamp);
     frame.time_source = TimeSource::kHost;
     return std::optional<Frame>(std::move(frame));

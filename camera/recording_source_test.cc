@@ -149,8 +149,8 @@ TEST_F(RecordingSourceTest, FramesThatAreNotWhatTheyClaimAreRefusedWithTheReason
   };
   const std::vector<Case> cases{
       {"garbage", "is not a sensor_msgs/Image"},
-      {ImageCdr(kT0, 3, 2, "rgb8", Pixels(1)), "replay takes mono8"},
-      {ImageCdr(kT0, 3, 2, "mono8", Pixels(1).substr(0, 5)), "does not match its 5 bytes"},
+      {ImageCdr(kT0, 3, 2, "jpeg", Pixels(1)), "'jpeg' is not one monocle converts"},
+      {ImageCdr(kT0, 3, 2, "mono8", Pixels(1).substr(0, 5)), "needs 6 bytes but has 5"},
       {ImageCdr(kT0, 3, 2, "mono8", Pixels(1), 2), "step 2"},
       {ImageCdr(kT0, 0, 0, "mono8", ""), "0x0"},
   };

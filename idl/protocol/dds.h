@@ -20,6 +20,9 @@ namespace monocle::dds {
 struct EndpointQos {
   int history_depth = 1;         // samples kept per instance (keep-last)
   bool transient_local = false;  // late-matching readers still receive kept samples
+  // A best-effort reader matches reliable and best-effort writers alike (ROS 2's default and
+  // sensor-data QoS); a reliable one only reliable writers.
+  bool best_effort = false;
   // The reader keeps only samples `accept(sample, accept_arg)` says yes to, decided on
   // arrival, before they take a place in its history (a Cyclone topic filter).
   bool (*accept)(const void* sample, void* arg) = nullptr;
@@ -103,7 +106,9 @@ class Endpoint {
     Endpoint ep;
     ep.participant_ = std::move(participant);
     dds_qos_t* qos = dds_create_qos();
-    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    dds_qset_reliability(qos,
+                         eq.best_effort ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE,
+                         DDS_MSECS(100));
     // A slow subscriber must never stall the publisher: keep only the latest samples.
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, eq.history_depth);
     if (eq.transient_local) dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);

@@ -45,11 +45,12 @@ uint64_t MissingBetween(uint64_t previous, uint64_t current) {
 
 CameraWorker::CameraWorker(CameraSetup setup, CameraCalibration calibration,
                            OnProcessed on_processed, OnStateChange on_state_change,
-                           OnFrame on_frame)
+                           OnFrame on_frame, OpenSource open_source)
     : setup_(std::move(setup)),
       on_processed_(std::move(on_processed)),
       on_frame_(std::move(on_frame)),
       on_state_change_(std::move(on_state_change)),
+      open_source_(std::move(open_source)),
       calibration_(std::move(calibration)) {}
 
 CameraWorker::~CameraWorker() { Stop(); }
@@ -92,32 +93,37 @@ void CameraWorker::SetState(SourceState state, const std::string& error) {
   if (on_state_change_) on_state_change_();
 }
 
-void CameraWorker::Acquire() {
-  // A device (reconnected when lost; it reports its own state), or a recording (it streams
-  // until its end: then the camera is stopped, as a device would be when unplugged for good).
-  std::unique_ptr<FrameSource> source;
-  RecordingSource* recording = nullptr;
+// A device (reconnected when lost; it reports its own state), an image topic (reports its
+// own state too), or a recording (it streams until its end: then the camera is stopped, as a
+// device would be when unplugged for good).
+Result<std::unique_ptr<FrameSource>> CameraWorker::OpenFrameSource(RecordingSource** recording) {
+  const auto on_state = [this](SourceState s, const std::string& reason) { SetState(s, reason); };
   if (setup_.replay) {
     auto opened = RecordingSource::Open(setup_.replay->mcap_path, setup_.replay->recorded_namespace,
                                         setup_.replay->pace);
-    if (!opened) {
-      SetState(SourceState::kFailed, opened.error().message);
-      return;
-    }
-    recording = opened->get();
-    source = std::move(*opened);
+    if (!opened) return opened.error();
+    *recording = opened->get();
     SetState(SourceState::kStreaming, "");
-  } else {
-    AravisOptions options = setup_.options;
-    options.cancelled = [this] {
-      std::lock_guard<std::mutex> lock(mutex_);
-      return stop_;
-    };
-    source = std::make_unique<ReconnectingSource>(
-        std::move(options),
-        [this](SourceState s, const std::string& reason) { SetState(s, reason); },
-        setup_.stall_timeout);
+    return std::unique_ptr<FrameSource>(std::move(*opened));
   }
+  if (open_source_) return open_source_(on_state);
+  AravisOptions options = setup_.options;
+  options.cancelled = [this] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stop_;
+  };
+  return std::unique_ptr<FrameSource>(
+      std::make_unique<ReconnectingSource>(std::move(options), on_state, setup_.stall_timeout));
+}
+
+void CameraWorker::Acquire() {
+  RecordingSource* recording = nullptr;
+  auto opened = OpenFrameSource(&recording);
+  if (!opened) {
+    SetState(SourceState::kFailed, opened.error().message);
+    return;
+  }
+  std::unique_ptr<FrameSource> source = std::move(opened).value();
   while (true) {
     {
       std::lock_guard<std::mutex> lock(mutex_);

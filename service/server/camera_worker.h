@@ -23,6 +23,8 @@
 
 namespace monocle {
 
+class RecordingSource;
+
 // One processed frame of a corner camera.
 struct ProcessedFrame {
   uint64_t sequence = 0;
@@ -52,9 +54,13 @@ class CameraWorker {
   using OnStateChange = std::function<void()>;
   // Called on the acquisition thread with every frame received (its own copy of the pixels).
   using OnFrame = std::function<void(const Frame&)>;
+  // Opens a source that is not an Aravis camera (an image topic); it reports its own state.
+  using StateCallback = std::function<void(SourceState, const std::string& reason)>;
+  using OpenSource = std::function<Result<std::unique_ptr<FrameSource>>(StateCallback)>;
 
+  // Frames come from `open_source` if given, else from the Aravis device of `setup`.
   CameraWorker(CameraSetup setup, CameraCalibration calibration, OnProcessed on_processed,
-               OnStateChange on_state_change, OnFrame on_frame = {});
+               OnStateChange on_state_change, OnFrame on_frame = {}, OpenSource open_source = {});
   ~CameraWorker();
   CameraWorker(const CameraWorker&) = delete;
   CameraWorker& operator=(const CameraWorker&) = delete;
@@ -74,6 +80,7 @@ class CameraWorker {
 
  private:
   void Acquire();
+  Result<std::unique_ptr<FrameSource>> OpenFrameSource(RecordingSource** recording);
   void Process();
   void SetState(SourceState state, const std::string& error);
 
@@ -81,6 +88,7 @@ class CameraWorker {
   const OnProcessed on_processed_;
   const OnFrame on_frame_;
   const OnStateChange on_state_change_;
+  const OpenSource open_source_;
 
   mutable std::mutex mutex_;  // guards everything below
   std::condition_variable frame_ready_;

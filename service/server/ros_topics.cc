@@ -242,7 +242,8 @@ void RosTopics::PublishImage(const CameraSetup& camera, const Frame& frame) {
   cv::Mat pixels = frame.grey.isContinuous() ? frame.grey : frame.grey.clone();
   sensor_msgs_msg_dds__Image_ image{};
   image.header.stamp = RosTime(frame.capture_time_ns);
-  image.header.frame_id = Chars(camera.ros_frame);
+  // An image topic's frames keep the driver's frame id: they are the same optical frame.
+  image.header.frame_id = Chars(frame.frame_id.empty() ? camera.ros_frame : frame.frame_id);
   image.height = static_cast<uint32_t>(pixels.rows);
   image.width = static_cast<uint32_t>(pixels.cols);
   static const char kMono8[] = "mono8";

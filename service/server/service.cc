@@ -4,6 +4,7 @@
 
 #include <iostream>
 
+#include "camera/ros/ros_topic_source.h"
 #include "service/server/wire_values.h"
 
 namespace monocle {
@@ -121,12 +122,22 @@ Result<std::unique_ptr<Service>> Service::Start(
   }
 
   for (const auto& cam : cameras) {
+    CameraWorker::OpenSource open_source;
+    if (IsRosTopicDevice(cam.options.device)) {
+      open_source = [p, &cam](CameraWorker::StateCallback on_state) {
+        auto source =
+            RosTopicSource::Open(p, cam.options.device, std::move(on_state), cam.stall_timeout);
+        if (!source) return Result<std::unique_ptr<FrameSource>>(source.error());
+        return Result<std::unique_ptr<FrameSource>>(std::move(source).value());
+      };
+    }
     self->workers_.push_back(std::make_unique<CameraWorker>(
         cam, loaded[cam.id], [self, &cam](const ProcessedFrame& f) { self->OnProcessed(cam, f); },
         [self, id = cam.id] {
           if (auto* w = self->Find(id)) self->PublishStatusOf(*w, false);
         },
-        [self, &cam](const Frame& frame) { self->topics_->PublishImage(cam, frame); }));
+        [self, &cam](const Frame& frame) { self->topics_->PublishImage(cam, frame); },
+        std::move(open_source)));
   }
   if (stop_requested()) return cancelled;
   for (const auto& cam : cameras) s->PublishCalibration(cam, loaded[cam.id], 1);

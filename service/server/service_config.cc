@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "camera/ros/ros_topic_source.h"
 #include "idl/protocol/dds.h"
 #include "idl/service_config.pb.h"
 #include "service/io/bounded_file.h"
@@ -111,13 +112,21 @@ Status ParseCameraIdentity(const proto::CameraConfig& c, int i, const std::strin
                            CameraSetup* cam_out) {
   CameraSetup& cam = *cam_out;
   if (c.device().empty())
-    return errors.Camera(i, "device", "is missing: an Aravis id, IP, serial or sim-corner");
+    return errors.Camera(i, "device",
+                         "is missing: an Aravis id, IP, serial, sim-corner or ros:/image/topic");
   if (c.device().size() > kMaxNameLength)
     return errors.Camera(i, "device",
                          "is longer than " + std::to_string(kMaxNameLength) + " characters");
   if (c.id().size() > kMaxNameLength)
     return errors.Camera(i, "id",
                          "is longer than " + std::to_string(kMaxNameLength) + " characters");
+  if (IsRosTopicDevice(c.device())) {
+    if (auto topic = RosTopicOfDevice(c.device()); !topic)
+      return errors.Camera(i, "device", topic.error().message);
+    if (c.id().empty())
+      return errors.Camera(i, "id", "is needed for an image topic camera: e.g. id: \"front\"",
+                           "device");
+  }
   cam.options.device = c.device();
   cam.id = c.id().empty() ? c.device() : c.id();
   if (!ids->insert(cam.id).second)
