@@ -136,7 +136,8 @@ Result<Frame> RosTopicSource::Next(std::chrono::milliseconds timeout) {
   if (taken->empty()) {
     if (now - last_image_ > stall_timeout_ && state_ == SourceState::kStreaming) {
       std::ostringstream why;
-      why << "no image on " << topic_ << " for "
+      why.precision(1);
+      why << std::fixed << "no image on " << topic_ << " for "
           << std::chrono::duration<double>(now - last_image_).count()
           << " s: is the camera driver publishing?";
       SetState(SourceState::kReconnecting, why.str());

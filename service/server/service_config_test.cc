@@ -132,6 +132,11 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
        "\"xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx"
        "xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\"\n}\n",
        "cfg: line 3: camera[0].id is longer than 128 characters"},
+      {"camera {\n  id: \"front\"\n  device: \"ros:camera//image raw\"\n  role: CORNER\n}\n",
+       "cfg: line 3: camera[0].device 'camera//image raw' is not an absolute ROS 2 topic name: "
+       "write it like ros:/camera/image_raw"},
+      {"camera {\n  device: \"ros:/camera/image_raw\"\n  role: CORNER\n}\n",
+       "cfg: line 2: camera[0].id is needed for an image topic camera"},
   };
   for (const auto& c : cases) {
     const auto setup = ParseServiceConfig(c.text, "cfg", "");

@@ -1,0 +1,167 @@
+// A robot's own camera driver on ROS 2's default middleware feeds monocled: ros2_peer (Fast DDS
+// from Debian, types from fastddsgen, none of monocle's code) publishes rendered frames on
+// /camera/image_raw, monocled reads them through a camera configured as
+// device "ros:/camera/image_raw", and ROS 2 readers on Fast DDS receive its pose, camera_info,
+// tf and diagnostics. Separate processes on loopback.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/integration/cli_process.h"
+#include "tests/integration/service_process.h"
+
+namespace monocle::testing {
+namespace {
+
+struct Truth {
+  double x, y, z;
+};
+
+std::string PeerBinary() {
+  const std::string bin = MonocleBinary();
+  return bin.substr(0, bin.rfind("/client/")) + "/tests/integration/ros2_peer";
+}
+
+std::vector<std::vector<std::string>> Words(const std::string& text) {
+  std::vector<std::vector<std::string>> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::vector<std::string> w;
+    for (std::string word; words >> word;) w.push_back(word);
+    if (!w.empty()) lines.push_back(w);
+  }
+  return lines;
+}
+
+class RosImageTopicTest : public ::testing::Test {
+ protected:
+  // Three realistic frames of a robot moving 1 cm at a time under the corner, the camera's
+  // calibration, and monocled with one camera reading the image topic.
+  void StartService(int domain) {
+    domain_ = domain;
+    std::ofstream(dir_ / "cal.pbtxt")
+        << "intrinsics { width: 1280 height: 1024 fx: 1624.34 fy: 1623.04 cx: 634.77 "
+           "cy: 499.02 distortion: [-0.07021, 0.07348, -0.00112, 0.00267] }\n"
+           "corner { ceiling_distance: 1.6 }\n";
+    for (int i = 0; i < 3; ++i) {
+      truth_.push_back({2.0 + 0.01 * i, 1.5, 1.6});
+      const std::string pose = std::to_string(truth_[i].x) + ",1.5,1.6,2.2143,0.9,0.1";
+      const std::string frame = dir_ / ("frame" + std::to_string(i) + ".png");
+      auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" + " --pose " +
+                                    pose + " --realistic --seed 11 --out " + frame);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      frames_.push_back(frame);
+    }
+    monocled_ = StartMonocled(dir_, "domain: " + std::to_string(domain) +
+                                        "\ncamera { id: \"front\" role: CORNER device: "
+                                        "\"ros:/camera/image_raw\" calibration: \"cal.pbtxt\" }\n");
+  }
+
+  std::unique_ptr<ChildProcess> Publish(const std::string& qos, const std::string& encoding,
+                                        double seconds) {
+    std::vector<std::string> args{"publish",
+                                  "--domain",
+                                  std::to_string(domain_),
+                                  "--qos",
+                                  qos,
+                                  "--encoding",
+                                  encoding,
+                                  "--rate",
+                                  "10",
+                                  "--seconds",
+                                  std::to_string(seconds)};
+    args.insert(args.end(), frames_.begin(), frames_.end());
+    return std::make_unique<ChildProcess>(PeerBinary(), args, dir_ / "publisher.log");
+  }
+
+  void TearDown() override {
+    if (monocled_) {
+      EXPECT_EQ(monocled_->Stop(), 0) << ReadFile(dir_ / "monocled.log");
+    }
+  }
+
+  TempDir dir_{"monocle_ros_image_topic"};
+  int domain_ = 0;
+  std::vector<Truth> truth_;
+  std::vector<std::string> frames_;
+  std::unique_ptr<ChildProcess> monocled_;
+};
+
+// The driver's frames (rgb8, sensor-data QoS: best effort) give poses that match the rendered
+// truth, stamped with the frame's own stamp; Fast DDS readers receive every topic.
+TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive) {
+  ASSERT_NO_FATAL_FAILURE(StartService(73));
+  auto publisher = Publish("sensor", "rgb8", 30);
+  ChildProcess reader(PeerBinary(),
+                      {"read", "--domain", std::to_string(domain_), "--namespace", "/monocle/front",
+                       "--seconds", "8", "--out", dir_ / "read.txt"},
+                      dir_ / "reader.log");
+  ASSERT_EQ(reader.WaitFor(std::chrono::seconds(30)), 0) << ReadFile(dir_ / "reader.log");
+  const auto lines = Words(ReadFile(dir_ / "read.txt"));
+  std::map<std::string, int> count;
+  std::string last_diagnostic_level;
+  for (const auto& w : lines) {
+    ++count[w[0]];
+    if (w[0] == "pose") {
+      // pose SEC NANOSEC FRAME X Y Z QX QY QZ QW VAR_X: the stamp's nanoseconds name the frame.
+      ASSERT_EQ(w.size(), 12u);
+      const size_t frame = std::stoul(w[2]);
+      ASSERT_LT(frame, truth_.size());
+      EXPECT_GE(std::stoi(w[1]), 1000) << "the driver's stamp is carried through";
+      EXPECT_EQ(w[3], "corner");
+      const double dx = std::stod(w[4]) - truth_[frame].x, dy = std::stod(w[5]) - truth_[frame].y;
+      EXPECT_LT(std::hypot(dx, dy), 0.01 * std::hypot(truth_[frame].x, truth_[frame].y))
+          << "frame " << frame;
+      EXPECT_GT(std::stod(w[11]), 0) << "a covariance is published";
+    } else if (w[0] == "camera_info") {
+      ASSERT_EQ(w.size(), 8u);
+      EXPECT_EQ(w[2], "1280");
+      EXPECT_NEAR(std::stod(w[4]), 1624.34, 1e-6);
+    } else if (w[0] == "tf") {
+      EXPECT_EQ(w[1], "corner");
+      EXPECT_EQ(w[2], "front_optical");
+    } else if (w[0] == "diagnostics" && w.size() > 3 && w[2] == "front") {
+      last_diagnostic_level = w[3];
+    }
+  }
+  EXPECT_GE(count["pose"], 20) << "8 s of a 10 Hz driver";
+  EXPECT_GE(count["camera_info"], 1);
+  EXPECT_GE(count["tf"], 20);
+  EXPECT_GE(count["diagnostics"], 1);
+  EXPECT_EQ(last_diagnostic_level, "level=0") << "the streaming camera is OK";
+  EXPECT_EQ(publisher->Stop(), 0) << ReadFile(dir_ / "publisher.log");
+}
+
+// Bayer frames with ROS 2's default QoS (reliable) are read too; when the driver stops, the
+// camera's status says the topic went quiet, and it streams again when frames come back.
+TEST_F(RosImageTopicTest, DefaultQosBayerFramesAndAQuietTopicIsReported) {
+  ASSERT_NO_FATAL_FAILURE(StartService(74));
+  auto publisher = Publish("default", "bayer_rggb8", 4);
+  auto r = RunMonocle(dir_, "corner locate --camera front --domain 74 --count 5 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << ReadFile(dir_ / "monocled.log");
+  EXPECT_EQ(Words(r.out).size(), 5u) << r.out;
+  ASSERT_EQ(publisher->WaitFor(std::chrono::seconds(20)), 0) << ReadFile(dir_ / "publisher.log");
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  r = RunMonocle(dir_, "status --domain 74");
+  EXPECT_EQ(r.exit_code, 0) << "a camera being waited for is not a failure:\n" << r.out << r.err;
+  EXPECT_NE(r.out.find("reconnecting"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no image on /camera/image_raw"), std::string::npos) << r.out;
+
+  publisher = Publish("default", "mono8", 30);
+  r = RunMonocle(dir_, "corner locate --camera front --domain 74 --count 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunMonocle(dir_, "status --domain 74");
+  EXPECT_NE(r.out.find("streaming"), std::string::npos) << r.out;
+  EXPECT_EQ(publisher->Stop(), 0);
+}
+
+}  // namespace
+}  // namespace monocle::testing
