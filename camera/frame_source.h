@@ -9,6 +9,7 @@
 #include <string>
 
 #include "service/common/result.h"
+#include "service/geometry/camera_model.h"
 
 namespace monocle {
 
@@ -50,6 +51,8 @@ class FrameSource {
   // The next frame, or an error: kNotFound when nothing arrived within `timeout`
   // (a stalled stream), kIo when the camera was lost.
   virtual Result<Frame> Next(std::chrono::milliseconds timeout) = 0;
+  // The intrinsics the source itself publishes (a ROS driver's camera_info), if any.
+  virtual std::optional<CameraIntrinsics> intrinsics() const { return std::nullopt; }
 };
 
 }  // namespace monocle

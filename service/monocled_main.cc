@@ -227,7 +227,8 @@ void LogServing(const monocle::Service& service, const monocle::ServiceSetup& se
   // Refused cameras were logged by Start with the reason; these are the ones served.
   for (const auto& cam : service.served_cameras()) {
     std::cerr << "monocled: camera '" << cam.id << "' (" << cam.options.device << ", "
-              << monocle::ToString(cam.role) << ", calibration " << cam.calibration_path
+              << monocle::ToString(cam.role) << ", calibration "
+              << (cam.calibration_path.empty() ? "from camera_info" : cam.calibration_path)
               << "; ROS 2 " << cam.ros_namespace << "/{"
               << (cam.corner() ? "corner_pose,pose,get_pose," : "")
               << (cam.room_map ? "map_pose," : "")

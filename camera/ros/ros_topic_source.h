@@ -50,6 +50,10 @@ class RosTopicSource : public FrameSource {
   Result<Frame> Next(std::chrono::milliseconds timeout) override;
   // The camera_info last received, if any.
   const std::optional<RosCameraInfo>& camera_info() const { return camera_info_; }
+  std::optional<CameraIntrinsics> intrinsics() const override {
+    if (!camera_info_) return std::nullopt;
+    return camera_info_->intrinsics;
+  }
   const std::string& topic() const { return topic_; }
 
  private:

@@ -24,6 +24,11 @@ struct CameraCalibration {
   std::string distortion_model;  // "k1k2", "k1k2p1p2", "k1k2p1p2k3"; empty when unknown
 };
 
+// Whether the calibration has intrinsics (an image topic's camera may wait for camera_info's).
+inline bool HasIntrinsics(const CameraCalibration& calibration) {
+  return calibration.intrinsics.width_px > 0 && calibration.intrinsics.fx > 0;
+}
+
 // Parses text-format protobuf. Errors name the line and column (syntax, unknown fields)
 // or the field (missing or impossible values). `source` names the file in messages.
 Result<CameraCalibration> ParseCalibration(const std::string& text, const std::string& source);

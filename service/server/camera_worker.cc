@@ -45,12 +45,14 @@ uint64_t MissingBetween(uint64_t previous, uint64_t current) {
 
 CameraWorker::CameraWorker(CameraSetup setup, CameraCalibration calibration,
                            OnProcessed on_processed, OnStateChange on_state_change,
-                           OnFrame on_frame, OpenSource open_source)
+                           OnFrame on_frame, OpenSource open_source,
+                           OnSourceIntrinsics on_source_intrinsics)
     : setup_(std::move(setup)),
       on_processed_(std::move(on_processed)),
       on_frame_(std::move(on_frame)),
       on_state_change_(std::move(on_state_change)),
       open_source_(std::move(open_source)),
+      on_source_intrinsics_(std::move(on_source_intrinsics)),
       calibration_(std::move(calibration)) {}
 
 CameraWorker::~CameraWorker() { Stop(); }
@@ -116,6 +118,24 @@ Result<std::unique_ptr<FrameSource>> CameraWorker::OpenFrameSource(RecordingSour
       std::make_unique<ReconnectingSource>(std::move(options), on_state, setup_.stall_timeout));
 }
 
+// A calibration without intrinsics (an image topic's camera configured without a file) takes
+// the first the source publishes (camera_info).
+void CameraWorker::TakeSourceIntrinsics(const FrameSource& source) {
+  CameraCalibration updated;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (HasIntrinsics(calibration_)) return;
+    const auto intrinsics = source.intrinsics();
+    if (!intrinsics) return;
+    calibration_.intrinsics = *intrinsics;
+    updated = calibration_;
+  }
+  std::cerr << "monocled: camera '" << setup_.id
+            << "' takes its intrinsics from camera_info: " << updated.intrinsics
+            << " (no covariance: 1-sigma figures exclude their uncertainty)\n";
+  if (on_source_intrinsics_) on_source_intrinsics_(updated);
+}
+
 void CameraWorker::Acquire() {
   RecordingSource* recording = nullptr;
   auto opened = OpenFrameSource(&recording);
@@ -144,6 +164,7 @@ void CameraWorker::Acquire() {
       if (IsPermanentCameraError(frame.error())) return;
       continue;
     }
+    TakeSourceIntrinsics(*source);
     const auto received = std::chrono::steady_clock::now();
     // Processing may hold a frame longer than the camera's ring has buffers: copy out of it.
     frame->grey = frame->grey.clone();
@@ -187,9 +208,17 @@ void CameraWorker::Process() {
     out.sequence = frame.sequence;
     out.capture_time_ns = frame.capture_time_ns;
     out.camera_clock = frame.time_source == TimeSource::kCamera;
-    CornerPipelineResult result = pipeline_->Process(frame.grey, calibration, CaptureTimeS(frame));
-    out.corner = std::move(result.corner);
-    out.map = std::move(result.map);
+    if (HasIntrinsics(calibration)) {
+      CornerPipelineResult result =
+          pipeline_->Process(frame.grey, calibration, CaptureTimeS(frame));
+      out.corner = std::move(result.corner);
+      out.map = std::move(result.map);
+    } else {
+      out.corner =
+          MakeError(ErrorCode::kNotFound, "no intrinsics yet: waiting for the camera_info beside " +
+                                              setup_.options.device +
+                                              " (or give the camera a calibration file)");
+    }
     out.processing_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                             std::chrono::steady_clock::now() - received)
                             .count();

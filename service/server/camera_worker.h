@@ -58,9 +58,13 @@ class CameraWorker {
   using StateCallback = std::function<void(SourceState, const std::string& reason)>;
   using OpenSource = std::function<Result<std::unique_ptr<FrameSource>>(StateCallback)>;
 
+  // Called once when a calibration without intrinsics takes the source's own (camera_info).
+  using OnSourceIntrinsics = std::function<void(const CameraCalibration&)>;
+
   // Frames come from `open_source` if given, else from the Aravis device of `setup`.
   CameraWorker(CameraSetup setup, CameraCalibration calibration, OnProcessed on_processed,
-               OnStateChange on_state_change, OnFrame on_frame = {}, OpenSource open_source = {});
+               OnStateChange on_state_change, OnFrame on_frame = {}, OpenSource open_source = {},
+               OnSourceIntrinsics on_source_intrinsics = {});
   ~CameraWorker();
   CameraWorker(const CameraWorker&) = delete;
   CameraWorker& operator=(const CameraWorker&) = delete;
@@ -81,6 +85,7 @@ class CameraWorker {
  private:
   void Acquire();
   Result<std::unique_ptr<FrameSource>> OpenFrameSource(RecordingSource** recording);
+  void TakeSourceIntrinsics(const FrameSource& source);
   void Process();
   void SetState(SourceState state, const std::string& error);
 
@@ -89,6 +94,7 @@ class CameraWorker {
   const OnFrame on_frame_;
   const OnStateChange on_state_change_;
   const OpenSource open_source_;
+  const OnSourceIntrinsics on_source_intrinsics_;
 
   mutable std::mutex mutex_;  // guards everything below
   std::condition_variable frame_ready_;

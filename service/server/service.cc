@@ -34,6 +34,13 @@ Result<std::unique_ptr<Service>> Service::Start(
   std::map<std::string, CameraCalibration> loaded;
   for (const auto& cam : s->setup_.cameras) {
     if (stop_requested()) return cancelled;
+    if (cam.calibration_path.empty()) {  // intrinsics from the image topic's camera_info
+      CameraCalibration from_camera_info;
+      from_camera_info.ceiling_distance_m = cam.ceiling_distance_m;
+      loaded[cam.id] = from_camera_info;
+      s->calibrations_.Add(cam.id, from_camera_info);
+      continue;
+    }
     // A floor calibration killed half-way left its temporary: gone before we write again.
     if (const int stale = RemoveStaleTemporaries(cam.calibration_path); stale > 0) {
       std::cerr << "monocled: removed " << stale << " stale temporary file(s) next to "
@@ -137,10 +144,16 @@ Result<std::unique_ptr<Service>> Service::Start(
           if (auto* w = self->Find(id)) self->PublishStatusOf(*w, false);
         },
         [self, &cam](const Frame& frame) { self->topics_->PublishImage(cam, frame); },
-        std::move(open_source)));
+        std::move(open_source),
+        [self, &cam](const CameraCalibration& cal) {
+          self->calibrations_.Add(cam.id, cal);
+          self->PublishCalibration(cam, cal, 1);
+        }));
   }
   if (stop_requested()) return cancelled;
-  for (const auto& cam : cameras) s->PublishCalibration(cam, loaded[cam.id], 1);
+  for (const auto& cam : cameras) {
+    if (HasIntrinsics(loaded[cam.id])) s->PublishCalibration(cam, loaded[cam.id], 1);
+  }
   if (before_cameras) {
     if (Status ready = before_cameras(*s); !ready) return ready.error();
   }

@@ -145,18 +145,27 @@ Status ParseCameraIdentity(const proto::CameraConfig& c, int i, const std::strin
     default:
       return errors.Camera(i, "role", "is missing: CORNER, FLOOR or CORNER_AND_FLOOR");
   }
-  if (c.calibration().empty())
-    return errors.Camera(i, "calibration",
-                         "is missing: the camera's calibration file (monocle intrinsics "
-                         "calibrate writes one)");
-  std::filesystem::path path(c.calibration());
-  if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
-  cam.calibration_path = path.lexically_normal().string();
   if (c.has_ceiling_distance_m()) {
     if (!(c.ceiling_distance_m() > 0 && c.ceiling_distance_m() < 100))
       return errors.Camera(i, "ceiling_distance_m", "must be 0..100 metres");
     cam.ceiling_distance_m = c.ceiling_distance_m();
   }
+  if (c.calibration().empty()) {
+    // An image topic's corner camera may take its intrinsics from the driver's camera_info.
+    const bool from_camera_info = IsRosTopicDevice(c.device()) && cam.role == CameraRole::kCorner;
+    if (from_camera_info && cam.ceiling_distance_m) return Ok{};
+    if (from_camera_info)
+      return errors.Camera(i, "ceiling_distance_m",
+                           "is needed when the intrinsics come from camera_info (no calibration "
+                           "file): the camera's distance to the ceiling, metres",
+                           "device");
+    return errors.Camera(i, "calibration",
+                         "is missing: the camera's calibration file (monocle intrinsics "
+                         "calibrate writes one)");
+  }
+  std::filesystem::path path(c.calibration());
+  if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+  cam.calibration_path = path.lexically_normal().string();
   return Ok{};
 }
 

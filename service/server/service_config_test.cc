@@ -137,6 +137,11 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
        "write it like ros:/camera/image_raw"},
       {"camera {\n  device: \"ros:/camera/image_raw\"\n  role: CORNER\n}\n",
        "cfg: line 2: camera[0].id is needed for an image topic camera"},
+      {"camera {\n  id: \"front\"\n  device: \"ros:/camera/image_raw\"\n  role: CORNER\n}\n",
+       "cfg: line 3: camera[0].ceiling_distance_m is needed when the intrinsics come from "
+       "camera_info"},
+      {"camera { id: \"f\" device: \"ros:/camera/image_raw\" role: FLOOR }\n",
+       "camera[0].calibration is missing"},
   };
   for (const auto& c : cases) {
     const auto setup = ParseServiceConfig(c.text, "cfg", "");
@@ -197,6 +202,17 @@ TEST(ServiceConfigTest, ARoomMapNeedsAMountAndIsCheckedAgainstIt) {
 
 // Issue 14: 200 000 cameras kept monocled busy (ignoring SIGTERM) for minutes; the count is
 // now refused where the first camera too many is written.
+TEST(ServiceConfigTest, AnImageTopicCornerCameraMayTakeItsIntrinsicsFromCameraInfo) {
+  const auto setup = ParseServiceConfig(
+      "camera { id: \"front\" device: \"ros:/robot/front/image_raw\" role: CORNER\n"
+      "  ceiling_distance_m: 2.4 }\n",
+      "cfg", "/etc/monocle");
+  ASSERT_TRUE(setup.ok()) << setup.error();
+  EXPECT_EQ(setup->cameras[0].options.device, "ros:/robot/front/image_raw");
+  EXPECT_TRUE(setup->cameras[0].calibration_path.empty());
+  EXPECT_EQ(setup->cameras[0].ceiling_distance_m, 2.4);
+}
+
 TEST(ServiceConfigTest, RefusesMoreCamerasThanOneServiceServes) {
   std::string text;
   for (int i = 0; i <= kMaxCamerasPerService; ++i)

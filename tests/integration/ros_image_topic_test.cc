@@ -44,8 +44,9 @@ std::vector<std::vector<std::string>> Words(const std::string& text) {
 class RosImageTopicTest : public ::testing::Test {
  protected:
   // Three realistic frames of a robot moving 1 cm at a time under the corner, the camera's
-  // calibration, and monocled with one camera reading the image topic.
-  void StartService(int domain) {
+  // calibration, and monocled with one camera reading the image topic (`camera_entry`, by
+  // default with the calibration file).
+  void StartService(int domain, const std::string& camera_entry = "calibration: \"cal.pbtxt\"") {
     domain_ = domain;
     std::ofstream(dir_ / "cal.pbtxt")
         << "intrinsics { width: 1280 height: 1024 fx: 1624.34 fy: 1623.04 cx: 634.77 "
@@ -62,11 +63,12 @@ class RosImageTopicTest : public ::testing::Test {
     }
     monocled_ = StartMonocled(dir_, "domain: " + std::to_string(domain) +
                                         "\ncamera { id: \"front\" role: CORNER device: "
-                                        "\"ros:/camera/image_raw\" calibration: \"cal.pbtxt\" }\n");
+                                        "\"ros:/camera/image_raw\" " +
+                                        camera_entry + " }\n");
   }
 
   std::unique_ptr<ChildProcess> Publish(const std::string& qos, const std::string& encoding,
-                                        double seconds) {
+                                        double seconds, const std::string& camera_info = "") {
     std::vector<std::string> args{"publish",
                                   "--domain",
                                   std::to_string(domain_),
@@ -78,6 +80,7 @@ class RosImageTopicTest : public ::testing::Test {
                                   "10",
                                   "--seconds",
                                   std::to_string(seconds)};
+    if (!camera_info.empty()) args.insert(args.end(), {"--camera-info", camera_info});
     args.insert(args.end(), frames_.begin(), frames_.end());
     return std::make_unique<ChildProcess>(PeerBinary(), args, dir_ / "publisher.log");
   }
@@ -160,6 +163,36 @@ TEST_F(RosImageTopicTest, DefaultQosBayerFramesAndAQuietTopicIsReported) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = RunMonocle(dir_, "status --domain 74");
   EXPECT_NE(r.out.find("streaming"), std::string::npos) << r.out;
+  EXPECT_EQ(publisher->Stop(), 0);
+}
+
+// A camera configured without a calibration file takes its intrinsics from the driver's
+// camera_info (and says that their uncertainty is not in the 1-sigma figures).
+TEST_F(RosImageTopicTest, WithoutACalibrationFileTheDriversCameraInfoGivesTheIntrinsics) {
+  ASSERT_NO_FATAL_FAILURE(StartService(75, "ceiling_distance_m: 1.6"));
+  auto publisher = Publish("sensor", "mono8", 30,
+                           "1624.34,1623.04,634.77,499.02,-0.07021,0.07348,-0.00112,0.00267");
+  auto r = RunMonocle(dir_, "corner locate --camera front --domain 75 --count 6 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << ReadFile(dir_ / "monocled.log");
+  const auto lines = Words(r.out);
+  ASSERT_EQ(lines.size(), 6u) << r.out;
+  int located = 0;
+  for (const auto& w : lines) {
+    const std::string line = w[0];
+    // The pose's "x" (metres) comes after its "sigma":{"x":...} and before its "z".
+    const auto z_at = line.find("\"z\":");
+    if (z_at == std::string::npos) continue;  // the first frame may come before camera_info
+    const auto x_at = line.rfind("\"x\":", z_at);
+    const double x = std::stod(line.substr(x_at + 4));
+    // Any of the three frames: within 1 % of the horizontal distance of the nearest truth.
+    double nearest = 1e9;
+    for (const auto& t : truth_) nearest = std::min(nearest, std::abs(x - t.x));
+    EXPECT_LT(nearest, 0.01 * 2.5) << line;
+    ++located;
+  }
+  EXPECT_GE(located, 5) << r.out;
+  EXPECT_NE(ReadFile(dir_ / "monocled.log").find("takes its intrinsics from camera_info"),
+            std::string::npos);
   EXPECT_EQ(publisher->Stop(), 0);
 }
 

@@ -4,7 +4,9 @@
 //
 //   ros2_peer publish --domain D --topic /camera/image_raw --encoding mono8|rgb8|bayer_rggb8
 //                     --qos default|sensor --rate HZ --seconds S --frame-id F FRAME.png...
-//     publishes the frames in turn; frame i of the files carries stamp {1000 + n, i}.
+//                     [--camera-info FX,FY,CX,CY,K1,K2,P1,P2]
+//     publishes the frames in turn; frame i of the files carries stamp {1000 + n, i}. With
+//     --camera-info, a plumb_bob sensor_msgs/CameraInfo beside each on <topic's dir>/camera_info.
 //   ros2_peer read --domain D --namespace /monocle/front --seconds S --out FILE
 //     prints one line per sample of <ns>/pose, <ns>/camera_info, /tf and /diagnostics.
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -26,6 +28,7 @@
 #include <map>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -46,8 +49,16 @@ struct Args {
   std::string topic = "/camera/image_raw", encoding = "mono8", qos = "sensor";
   std::string frame_id = "camera_optical_frame", ros_namespace = "/monocle/front", out;
   double rate_hz = 10, seconds = 10;
+  std::vector<double> camera_info;  // fx fy cx cy k1 k2 p1 p2
   std::vector<std::string> frames;
 };
+
+std::vector<double> Numbers(const std::string& comma_separated) {
+  std::vector<double> out;
+  std::istringstream values(comma_separated);
+  for (std::string v; std::getline(values, v, ',');) out.push_back(std::stod(v));
+  return out;
+}
 
 bool Parse(int argc, char** argv, Args* a) {
   if (argc < 2) return false;
@@ -73,11 +84,14 @@ bool Parse(int argc, char** argv, Args* a) {
       a->rate_hz = std::stod(argv[++i]);
     else if (k == "--seconds" && has_value)
       a->seconds = std::stod(argv[++i]);
+    else if (k == "--camera-info" && has_value)
+      a->camera_info = Numbers(argv[++i]);
     else if (k.rfind("--", 0) == 0)
       return false;
     else
       a->frames.push_back(k);
   }
+  if (!a->camera_info.empty() && a->camera_info.size() != 8) return false;
   return a->mode == "read" || (a->mode == "publish" && !a->frames.empty());
 }
 
@@ -130,6 +144,35 @@ std::vector<uint8_t> Encode(const cv::Mat& grey, const std::string& encoding, ui
   return out;
 }
 
+// The camera_info a calibrated driver publishes beside its images (plumb_bob).
+sensor_msgs::msg::dds_::CameraInfo_ CameraInfoOf(const Args& a, const cv::Mat& frame) {
+  sensor_msgs::msg::dds_::CameraInfo_ info;
+  info.header().frame_id(a.frame_id);
+  info.width(static_cast<uint32_t>(frame.cols));
+  info.height(static_cast<uint32_t>(frame.rows));
+  info.distortion_model("plumb_bob");
+  const auto& c = a.camera_info;
+  info.d({c[4], c[5], c[6], c[7], 0.0});
+  info.k({c[0], 0, c[2], 0, c[1], c[3], 0, 0, 1});
+  info.r({1, 0, 0, 0, 1, 0, 0, 0, 1});
+  info.p({c[0], 0, c[2], 0, 0, c[1], c[3], 0, 0, 0, 1, 0});
+  return info;
+}
+
+fdds::DataWriter* OpenWriter(fdds::DomainParticipant* participant, fdds::Publisher* publisher,
+                             fdds::TopicDataType* type_support, const std::string& ros_topic,
+                             bool sensor_data) {
+  fdds::TypeSupport type = RosType(type_support);
+  type.register_type(participant);
+  fdds::Topic* topic =
+      participant->create_topic("rt" + ros_topic, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  fdds::DataWriterQos qos = fdds::DATAWRITER_QOS_DEFAULT;
+  SetRosQos(&qos, sensor_data);
+  // A frame is larger than one datagram: sent in fragments from Fast DDS's own thread.
+  qos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
+  return topic == nullptr ? nullptr : publisher->create_datawriter(topic, qos);
+}
+
 int Publish(const Args& a) {
   std::vector<sensor_msgs::msg::dds_::Image_> images;
   for (size_t i = 0; i < a.frames.size(); ++i) {
@@ -150,17 +193,20 @@ int Publish(const Args& a) {
   }
   fdds::DomainParticipant* participant = CreateParticipant(a.domain);
   if (participant == nullptr) return 3;
-  fdds::TypeSupport type = RosType(new sensor_msgs::msg::dds_::Image_PubSubType());
-  type.register_type(participant);
-  fdds::Topic* topic =
-      participant->create_topic("rt" + a.topic, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   fdds::Publisher* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-  fdds::DataWriterQos wqos = fdds::DATAWRITER_QOS_DEFAULT;
-  SetRosQos(&wqos, a.qos == "sensor");
-  // A frame is larger than one datagram: sent in fragments from Fast DDS's own thread.
-  wqos.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
-  fdds::DataWriter* writer = publisher->create_datawriter(topic, wqos);
+  fdds::DataWriter* writer =
+      OpenWriter(participant, publisher, new sensor_msgs::msg::dds_::Image_PubSubType(), a.topic,
+                 a.qos == "sensor");
   if (writer == nullptr) return 4;
+  fdds::DataWriter* info_writer = nullptr;
+  sensor_msgs::msg::dds_::CameraInfo_ info;
+  if (!a.camera_info.empty()) {
+    info_writer =
+        OpenWriter(participant, publisher, new sensor_msgs::msg::dds_::CameraInfo_PubSubType(),
+                   a.topic.substr(0, a.topic.rfind('/')) + "/camera_info", a.qos == "sensor");
+    if (info_writer == nullptr) return 4;
+    info = CameraInfoOf(a, cv::imread(a.frames[0], cv::IMREAD_GRAYSCALE));
+  }
   const auto period = std::chrono::duration<double>(1.0 / a.rate_hz);
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(a.seconds);
   for (int32_t n = 0; std::chrono::steady_clock::now() < end && !stop_requested; ++n) {
@@ -168,6 +214,10 @@ int Publish(const Args& a) {
     image.header().stamp().sec(1000 + n);
     image.header().stamp().nanosec(static_cast<uint32_t>(n % images.size()));
     writer->write(&image);
+    if (info_writer != nullptr) {
+      info.header().stamp(image.header().stamp());
+      info_writer->write(&info);
+    }
     std::this_thread::sleep_for(period);
   }
   participant->delete_contained_entities();
