@@ -12,6 +12,7 @@
 #include <optional>
 #include <sstream>
 
+#include "client/cli/calibration_warnings.h"
 #include "client/cli/command_line.h"
 #include "client/cli/commands.h"
 #include "client/cli/corner_output.h"
@@ -136,6 +137,7 @@ int LocateLive(const LocateArgs& a) {
         std::cerr << "monocle: warning: " << ignored << std::endl;
       });
   if (!subscription) return Fail(subscription.error());
+  const bool sigma_excludes_intrinsics = WarnIfLiveIntrinsicsHaveNoCovariance(*client, camera);
   int printed = 0;
   while (follow || printed < a.count) {
     std::unique_lock<std::mutex> lock(mutex);
@@ -151,7 +153,9 @@ int LocateLive(const LocateArgs& a) {
     queue.pop_front();
     lock.unlock();
     if (a.json) {
-      std::cout << ToJson(ToLiveOutput(pose)) << std::endl;
+      proto::LivePoseOutput out = ToLiveOutput(pose);
+      if (pose.valid) out.mutable_pose()->set_sigma_excludes_intrinsics(sigma_excludes_intrinsics);
+      std::cout << ToJson(out) << std::endl;
     } else if (!pose.valid) {
       std::cout << camera << " frame " << pose.frame_sequence << "  error: " << pose.error
                 << std::endl;
@@ -192,6 +196,7 @@ int Locate(const std::vector<std::string>& argv) {
   if (a.live.camera) return LocateLive(a);
   const auto calibration = LoadCalibrationFile(a.calibration_path);
   if (!calibration) return Fail(calibration.error(), kExitFailure);
+  WarnIfIntrinsicsHaveNoCovariance(a.calibration_path, *calibration);
   auto setup = CornerSetupFrom(a.corner);
   if (!setup) return Fail(setup.error(), UsageOrFailure(setup.error()));
   CornerPipelineOptions options = std::move(*setup);

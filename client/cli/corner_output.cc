@@ -159,6 +159,7 @@ proto::CornerOutput ToCornerOutput(const std::string& image, const Result<Corner
   out.mutable_sigma()->set_pan(s[2]);
   out.mutable_sigma()->set_tilt(s[3]);
   out.mutable_sigma()->set_swing(s[4]);
+  out.set_sigma_excludes_intrinsics(!r->sigma_includes_intrinsics);
   for (int a = 0; a < 3; ++a) {
     auto* line = out.add_lines();
     line->set_axis(kAxisName[a]);

@@ -51,33 +51,43 @@ Eigen::Matrix<double, 6, 6> ResidualCovariance(const std::array<LineObservation,
 
 }  // namespace
 
+std::optional<Eigen::Matrix<double, 6, 1>> CornerLineResiduals(
+    const CornerPose& pose, const std::array<LineObservation, 3>& lines,
+    const std::array<int, 3>& axis_of_line, double focal_px, double point_sigma_px) {
+  const Eigen::Matrix3d rot = RotationCameraFromCorner(pose);
+  const Eigen::Vector3d c = CameraPosition(pose);
+  Eigen::Matrix<double, 6, 1> r;
+  for (int k = 0; k < 3; ++k) {
+    const auto img = ImageOfAxis(rot, c, axis_of_line[k]);
+    if (!img) return std::nullopt;
+    const Eigen::Vector2d normal(-img->direction.y(), img->direction.x());
+    // Two points with the same mean and spread along the line as the edge points: their
+    // squared distances to a line sum to the points' own, up to a constant.
+    // Weighted by each line's own noise and independent points (relative to point_sigma_px).
+    const double n = lines[k].independent_points > 0 ? lines[k].independent_points
+                                                     : std::max(lines[k].num_points, 1);
+    const double sigma =
+        lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
+    const double weight = std::sqrt(std::max(n, 1.0) / 2.0) * focal_px / sigma;
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::Vector2d p =
+          lines[k].centroid + (side ? 1.0 : -1.0) * lines[k].spread * lines[k].direction;
+      r[2 * k + side] = weight * normal.dot(p - img->corner);
+    }
+  }
+  return r;
+}
+
 Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
                                           const std::array<LineObservation, 3>& lines,
                                           const std::array<int, 3>& axis_of_line, double focal_px,
                                           double point_sigma_px, double line_bias_px) {
   const double zc = initial.z_m;
   auto residuals = [&](const Eigen::VectorXd& q, Eigen::VectorXd* r) {
-    const CornerPose pose{q[0], q[1], zc, q[2], q[3], q[4]};
-    const Eigen::Matrix3d rot = RotationCameraFromCorner(pose);
-    const Eigen::Vector3d c = CameraPosition(pose);
-    for (int k = 0; k < 3; ++k) {
-      const auto img = ImageOfAxis(rot, c, axis_of_line[k]);
-      if (!img) return false;
-      const Eigen::Vector2d normal(-img->direction.y(), img->direction.x());
-      // Two points with the same mean and spread along the line as the edge points: their
-      // squared distances to a line sum to the points' own, up to a constant.
-      // Weighted by each line's own noise and independent points (relative to point_sigma_px).
-      const double n = lines[k].independent_points > 0 ? lines[k].independent_points
-                                                       : std::max(lines[k].num_points, 1);
-      const double sigma =
-          lines[k].point_sigma_px > 0 ? lines[k].point_sigma_px / point_sigma_px : 1.0;
-      const double weight = std::sqrt(std::max(n, 1.0) / 2.0) * focal_px / sigma;
-      for (int side = 0; side < 2; ++side) {
-        const Eigen::Vector2d p =
-            lines[k].centroid + (side ? 1.0 : -1.0) * lines[k].spread * lines[k].direction;
-        (*r)[2 * k + side] = weight * normal.dot(p - img->corner);
-      }
-    }
+    const auto line_residuals = CornerLineResiduals(CornerPose{q[0], q[1], zc, q[2], q[3], q[4]},
+                                                    lines, axis_of_line, focal_px, point_sigma_px);
+    if (!line_residuals) return false;
+    *r = *line_residuals;
     return true;
   };
   Eigen::VectorXd q(5);

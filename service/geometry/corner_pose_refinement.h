@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 
 #include "service/common/result.h"
 #include "service/geometry/corner_pose.h"
@@ -51,6 +52,12 @@ struct CornerRefinement {
 // `line_bias_px`: 1 sigma of an offset of each line as a whole (shading across the edge,
 // compression, blur), which more points do not average away; added to the covariance
 // through the same Jacobian.
+// The six weighted residuals RefineCornerPose minimises (two per line, pixels times each
+// line's weight) at `pose`; empty where an axis does not image in front of the camera.
+std::optional<Eigen::Matrix<double, 6, 1>> CornerLineResiduals(
+    const CornerPose& pose, const std::array<LineObservation, 3>& lines,
+    const std::array<int, 3>& axis_of_line, double focal_px, double point_sigma_px);
+
 Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
                                           const std::array<LineObservation, 3>& lines,
                                           const std::array<int, 3>& axis_of_line, double focal_px,

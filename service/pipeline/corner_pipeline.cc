@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "service/geometry/corner_intrinsics_uncertainty.h"
 #include "service/vision/corner_level.h"
 
 namespace monocle {
@@ -17,6 +18,20 @@ CornerQualityOptions QualityOf(const CameraCalibration& calibration) {
   CornerQualityOptions quality;
   quality.max_swing_rad = calibration.corner_max_swing_rad.value_or(quality.max_swing_rad);
   return quality;
+}
+
+// Edges measured perfectly still give a pose only as certain as the intrinsics they are seen
+// through: the calibration's covariance, carried to the pose, is added to the edges'.
+void AddIntrinsicsUncertainty(const CameraCalibration& calibration, CornerLocation* corner) {
+  if (calibration.intrinsics_covariance.isZero()) return;
+  CornerEdgePixels edges;
+  for (int axis = 0; axis < 3; ++axis) {
+    edges.points_px[axis] = corner->edges.points_px[axis];
+    edges.fitted_points[axis] = corner->points_per_line[axis];
+  }
+  corner->covariance += CornerPoseCovarianceFromIntrinsics(
+      calibration.intrinsics, corner->pose, edges, calibration.intrinsics_covariance);
+  corner->sigma_includes_intrinsics = true;
 }
 
 }  // namespace
@@ -60,6 +75,7 @@ CornerPipelineResult CornerPipeline::Process(const cv::Mat& grey,
   } else {
     out.corner = LocateCorner(grey, intrinsics, ceiling_m, {}, quality);
   }
+  if (out.corner) AddIntrinsicsUncertainty(calibration, &*out.corner);
   // Without a map, the mount's level when asked for (the map combines the level itself).
   if (out.corner && !map_tracker_ && options_.base_camera && options_.level_sigma_rad) {
     MountLevelOptions level;

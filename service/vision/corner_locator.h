@@ -81,6 +81,9 @@ struct CornerLocation {
   // other, so no other Y in the image would be the better answer.
   bool suspect_only_imprecise = false;
   CornerSource source = CornerSource::kDetected;
+  // `covariance` includes the calibration's intrinsics uncertainty (the pipeline adds it
+  // where the calibration has a covariance); false: the edges' measurement alone.
+  bool sigma_includes_intrinsics = false;
   // With the mount's level (corner_level.h): how far the pose as solved tipped the robot
   // base from level, before the two were combined, and the level's 1 sigma (radians).
   std::optional<double> level_error_rad;
