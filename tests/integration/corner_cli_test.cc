@@ -150,6 +150,37 @@ TEST_F(CornerCliTest, TracksADriveAtOneMetreASecond) {
   EXPECT_EQ(tracked, 11) << "every frame after the first tracked:\n" << r.out;
 }
 
+// A calibration without the covariance of its intrinsics is said to leave it out of 1 sigma;
+// with one, 1 sigma includes what it adds to the pose.
+TEST_F(CornerCliTest, OneSigmaIncludesTheCalibrationsUncertaintyOrSaysItDoesNot) {
+  CameraCalibration cal;
+  cal.intrinsics = testing::PaperCamera();
+  cal.ceiling_distance_m = 1.6;
+  IntrinsicParams sigma;
+  sigma << 2.0, 2.0, 3.0, 3.0, 0.01, 0.02, 0.0005, 0.0005, 0.0;
+  cal.intrinsics_covariance = sigma.array().square().matrix().asDiagonal();
+  ASSERT_TRUE(SaveCalibrationFileAtomically(dir_ / "with_covariance.pbtxt", cal).ok());
+  auto r = RunMonocle(dir_, "render corner --calibration " + dir_ / "cal.pbtxt" +
+                                " --pose 2.0,1.5,1.6,2.2143,0.9,0.1 --realistic --seed 5 --out " +
+                                dir_ / "view.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  proto::CornerOutput without, with;
+  r = RunMonocle(dir_, "corner locate " + dir_ / "view.png" + " --calibration " +
+                           dir_ / "cal.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("no covariance of its intrinsics"), std::string::npos) << r.err;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(Lines(r.out).at(0), &without).ok());
+  EXPECT_TRUE(without.sigma_excludes_intrinsics());
+  r = RunMonocle(dir_, "corner locate " + dir_ / "view.png" + " --calibration " +
+                           dir_ / "with_covariance.pbtxt" + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("no covariance"), std::string::npos) << r.err;
+  ASSERT_TRUE(google::protobuf::util::JsonStringToMessage(Lines(r.out).at(0), &with).ok());
+  EXPECT_FALSE(with.sigma_excludes_intrinsics());
+  EXPECT_DOUBLE_EQ(with.x(), without.x()) << "the same pose";
+  EXPECT_GT(with.sigma().x(), 2 * without.sigma().x()) << "a 2 px focal error alone is ~3 mm";
+}
+
 TEST_F(CornerCliTest, TracksAnOrderedSequenceOfRealisticFrames) {
   // A robot turning slowly under a white-painted corner: four frames, one look.
   std::vector<std::string> frames;
