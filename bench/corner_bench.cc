@@ -17,6 +17,7 @@
 #include "bench/corner_bench_frames.h"
 #include "bench/line_baselines.h"
 #include "camera/render/driving_path.h"
+#include "service/geometry/corner_intrinsics_uncertainty.h"
 #include "service/geometry/mount_fit.h"
 #include "service/geometry/robot_test_scenes.h"
 #include "service/vision/corner_level.h"
@@ -328,6 +329,33 @@ void BM_OtherRayCheck(benchmark::State& state) {
   state.SetLabel("10 rings of 24-96 px around the corner, 360 directions");
 }
 BENCHMARK(BM_OtherRayCheck)->Unit(benchmark::kMicrosecond);
+
+// What carrying a calibration's intrinsics covariance into a located pose costs (added to
+// every frame, detected or tracked, whose calibration has one): the located poses' own edges.
+void BM_IntrinsicsUncertainty(benchmark::State& state) {
+  const auto k = testing::PaperCamera();
+  IntrinsicParams sigma;
+  sigma << 2.0, 2.0, 3.0, 3.0, 0.01, 0.02, 0.0005, 0.0005, 0.0;
+  const IntrinsicsCovariance c = sigma.array().square().matrix().asDiagonal();
+  std::vector<std::pair<CornerPose, CornerEdgePixels>> located;
+  for (const auto& frame : Frames()) {
+    const auto got = LocateCorner(frame.image, k, frame.truth.z_m);
+    if (!got) continue;
+    CornerEdgePixels edges;
+    for (int axis = 0; axis < 3; ++axis) {
+      edges.points_px[axis] = got->edges.points_px[axis];
+      edges.fitted_points[axis] = got->points_per_line[axis];
+    }
+    located.emplace_back(got->pose, std::move(edges));
+  }
+  size_t i = 0;
+  for (auto _ : state) {
+    const auto& [pose, edges] = located[i++ % located.size()];
+    benchmark::DoNotOptimize(CornerPoseCovarianceFromIntrinsics(k, pose, edges, c));
+  }
+  state.SetLabel("9 intrinsics, the located frames' edge points");
+}
+BENCHMARK(BM_IntrinsicsUncertainty)->Unit(benchmark::kMicrosecond);
 
 // The two noise estimates every detection starts with (edge_profile.h), over the 72 frames,
 // and over the same frames with three quarters of each clipped white by glare: saturated pixels
