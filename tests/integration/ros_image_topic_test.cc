@@ -196,5 +196,49 @@ TEST_F(RosImageTopicTest, WithoutACalibrationFileTheDriversCameraInfoGivesTheInt
   EXPECT_EQ(publisher->Stop(), 0);
 }
 
+// A floor camera on an image topic: calibrated live from the driver's frame of a board on the
+// floor (written to its calibration file), then asked for floor points, which match those of
+// the calibration the frame was rendered with.
+TEST_F(RosImageTopicTest, AFloorCameraOnAnImageTopicCalibratesAndMeasures) {
+  const std::string intrinsics =
+      "intrinsics { width: 1280 height: 1024 fx: 1624.34 fy: 1623.04 cx: 634.77 cy: 499.02 "
+      "distortion: [-0.07021, 0.07348, -0.00112, 0.00267] }\n";
+  std::ofstream(dir_ / "truth.pbtxt")
+      << intrinsics << "floor { height: 0.9 pitch: 2.2 yaw: 0 roll: 0.01 }\n";
+  std::ofstream(dir_ / "down.pbtxt") << intrinsics;
+  auto r = RunMonocle(dir_, "render floor --calibration " + dir_ / "truth.pbtxt" +
+                                " --board 9x6 --square 0.05 --noise 2 --out " + dir_ / "board.png");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  frames_ = {dir_ / "board.png"};
+  domain_ = 76;
+  monocled_ = StartMonocled(dir_,
+                            "domain: 76\ncamera { id: \"down\" role: FLOOR device: "
+                            "\"ros:/down/image_raw\" calibration: \"down.pbtxt\" }\n");
+  std::vector<std::string> args{"publish", "--domain", "76",        "--topic", "/down/image_raw",
+                                "--rate",  "10",       "--seconds", "60",      frames_[0]};
+  ChildProcess publisher(PeerBinary(), args, dir_ / "publisher.log");
+  r = RunMonocle(dir_,
+                 "floor calibrate --board 9x6 --square 0.05 --camera down --domain 76 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << ReadFile(dir_ / "monocled.log");
+  // The first (floor calibrate: before its sigma {}) or last (floor measure: after it) value.
+  const auto number_after = [](const std::string& json, const std::string& key, bool last) {
+    const std::string quoted = "\"" + key + "\":";
+    const auto at = last ? json.rfind(quoted) : json.find(quoted);
+    return at == std::string::npos ? -1.0 : std::stod(json.substr(at + quoted.size()));
+  };
+  EXPECT_NEAR(number_after(r.out, "height", false), 0.9, 0.01) << r.out;
+  EXPECT_NE(ReadFile(dir_ / "down.pbtxt").find("floor"), std::string::npos)
+      << "the calibration is written to the camera's file";
+  const auto truth =
+      RunMonocle(dir_, "floor measure 640,900 --calibration " + dir_ / "truth.pbtxt" + " --json");
+  const auto live = RunMonocle(dir_, "floor measure 640,900 --camera down --domain 76 --json");
+  ASSERT_EQ(truth.exit_code, 0) << truth.err;
+  ASSERT_EQ(live.exit_code, 0) << live.err;
+  // The point 0.76 m ahead, as the true calibration and the live one see it.
+  EXPECT_NEAR(number_after(live.out, "y", true), number_after(truth.out, "y", true), 0.005)
+      << live.out << truth.out;
+  EXPECT_EQ(publisher.Stop(), 0);
+}
+
 }  // namespace
 }  // namespace monocle::testing
