@@ -67,15 +67,6 @@ std::array<LineObservation, 3> Observe(const std::array<EdgeRays, 3>& edges,
           ObserveEdge(edges[2], change, corner)};
 }
 
-CornerPose Moved(CornerPose pose, const Eigen::Matrix<double, 5, 1>& q) {
-  pose.x_m += q[0];
-  pose.y_m += q[1];
-  pose.pan_rad += q[2];
-  pose.tilt_rad += q[3];
-  pose.swing_rad += q[4];
-  return pose;
-}
-
 }  // namespace
 
 Eigen::Matrix<double, 5, kNumIntrinsicParams> CornerPoseJacobianWrtIntrinsics(
@@ -102,8 +93,8 @@ Eigen::Matrix<double, 5, kNumIntrinsicParams> CornerPoseJacobianWrtIntrinsics(
   for (int i = 0; i < 5; ++i) {
     Eigen::Matrix<double, 5, 1> q = Eigen::Matrix<double, 5, 1>::Zero();
     q[i] = pose_step[i];
-    const auto plus = residuals(Moved(pose, q), unchanged);
-    const auto minus = residuals(Moved(pose, -q), unchanged);
+    const auto plus = residuals(MovedBy(pose, q), unchanged);
+    const auto minus = residuals(MovedBy(pose, -q), unchanged);
     if (!plus || !minus) return Jacobian::Zero();
     d_residual_d_pose.col(i) = (*plus - *minus) / (2 * pose_step[i]);
   }
