@@ -173,6 +173,15 @@ Status ParseCameraIdentity(const proto::CameraConfig& c, int i, const std::strin
 Status ParseDeviceOptions(const proto::CameraConfig& c, int i, const ConfigErrors& errors,
                           CameraSetup* cam_out) {
   CameraSetup& cam = *cam_out;
+  // The robot's camera driver owns an image topic's device: its settings are the driver's.
+  if (IsRosTopicDevice(c.device()) &&
+      (!c.pixel_format().empty() || c.has_exposure_us() || c.has_gain() || c.has_frame_rate_hz() ||
+       c.has_packet_size_bytes() || c.has_inter_packet_delay_ticks() || c.feature_size() > 0)) {
+    return errors.Camera(i, "device",
+                         "is an image topic: its camera's settings (pixel_format, exposure_us, "
+                         "gain, frame_rate_hz, packet sizes, feature) belong to the driver that "
+                         "publishes it; remove them here");
+  }
   if (!c.pixel_format().empty()) cam.options.pixel_format = c.pixel_format();
   if (c.has_exposure_us()) {
     if (!(c.exposure_us() > 0)) return errors.Camera(i, "exposure_us", "must be > 0 µs");

@@ -142,6 +142,9 @@ TEST(ServiceConfigTest, ErrorsNameTheLineAndTheField) {
        "camera_info"},
       {"camera { id: \"f\" device: \"ros:/camera/image_raw\" role: FLOOR }\n",
        "camera[0].calibration is missing"},
+      {"camera { id: \"f\" device: \"ros:/camera/image_raw\" role: CORNER\n"
+       "  ceiling_distance_m: 2 exposure_us: 8000 }\n",
+       "camera[0].device is an image topic: its camera's settings"},
   };
   for (const auto& c : cases) {
     const auto setup = ParseServiceConfig(c.text, "cfg", "");
