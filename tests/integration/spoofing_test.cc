@@ -123,11 +123,10 @@ TEST_F(SpoofingTest, AFakeStatusIsAConflictAndTheServiceIsCleanOnceItLeaves) {
       << refused.error();
   EXPECT_NE(refused.error().message.find(kFakeService), std::string::npos) << refused.error();
 
-  // It leaves as a program does when it ends (its participant closed, not killed).
-  for (int i = 0;
-       i < 100 && testing::ReadFile(dir_ / "spoofer.log").find("done") == std::string::npos; ++i)
-    std::this_thread::sleep_for(100ms);
-  EXPECT_EQ(spoofer->StopWithin(10s), 0) << testing::ReadFile(dir_ / "spoofer.log");
+  // It leaves as a program does when it ends (its participant closed, not killed): waited
+  // for, not signalled, since a SIGTERM during its teardown would kill it mid-goodbye.
+  EXPECT_EQ(spoofer->WaitFor(15s), std::optional<int>(0))
+      << testing::ReadFile(dir_ / "spoofer.log");
   const auto left = std::chrono::steady_clock::now();
   bool clean = false;
   for (int i = 0; i < 50 && !clean; ++i) {
