@@ -31,6 +31,8 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "bench/bench_process.h"
@@ -216,6 +218,9 @@ struct Flood {
   Latencies good;
   double rss_growth = 0;
   std::string sent = "0", answered = "0";
+  // Under --secure, the flood "identities" also runs one flooder of a second identity beside
+  // the first identity's: what it sent and was answered.
+  std::string other_sent = "0", other_answered = "0";
 };
 
 // "NAME: S sent, A answered; good client every 20 ms: N answered, L lost, p50 p99 max".
@@ -347,7 +352,7 @@ int main(int argc, char** argv) {
                    "authenticated 'reader' identity\n"
                    "  [--co-located]: also 8 flooding participants on monocled's own CPUs\n"
                    "  [--only LABEL,...]: those floods alone (flood1 flood-same-id1 "
-                   "flood-64-writers1 flood-same-id8 shared shared-weighted)\n";
+                   "flood-64-writers1 flood-same-id8 identities shared shared-weighted)\n";
       return 2;
     }
   }
@@ -378,9 +383,10 @@ int main(int argc, char** argv) {
   // 'reader', which may query points).
   const std::string keys = dir + "/keys";
   if (secure) {
-    const std::string init = build + "/client/monocle security init " + keys +
-                             " --client good:reader --client flood:reader >" + dir +
-                             "/keys.log 2>&1";
+    const std::string init =
+        build + "/client/monocle security init " + keys +
+        " --client good:reader --client flood:reader --client flood2:reader >" + dir +
+        "/keys.log 2>&1";
     if (std::system(init.c_str()) != 0) {
       std::cerr << "cannot make a keystore: see " << dir << "/keys.log\n";
       return 1;
@@ -388,6 +394,7 @@ int main(int argc, char** argv) {
   }
   const monocle::Client::Options good_client{domain, 5s, secure ? keys + "/good" : ""};
   const std::string flood_identity = secure ? keys + "/flood" : "";
+  const std::string other_flood_identity = secure ? keys + "/flood2" : "";
   // The floods stand for other machines on the network: their CPU is not ours. With two CPUs
   // or more they run on the last, monocled and the good clients on the others (it inherits
   // this process's). --co-located adds a flood on monocled's own CPUs.
@@ -479,8 +486,24 @@ int main(int argc, char** argv) {
   // 2. The floods: unique client ids, then one client id (a client asking as fast as it can).
   // `processes` flooding processes of `kind` on `cpu` (-1: monocled's) at `nice_value`; the
   // good client asks every `pause`. `label` names it for --only.
+  // What flooding processes whose logs are dir/<prefix><i>.log, i < processes, sent and were
+  // answered.
+  const auto sum_logs = [&](const std::string& prefix, int processes) {
+    uint64_t sent = 0, answered = 0;
+    for (int i = 0; i < processes; ++i) {
+      std::ifstream in(dir + "/" + prefix + std::to_string(i) + ".log");
+      for (std::string line; std::getline(in, line);)
+        if (line.rfind("sent ", 0) == 0)
+          sent += std::stoull(line.substr(5));
+        else if (line.rfind("answered ", 0) == 0)
+          answered += std::stoull(line.substr(9));
+    }
+    return std::make_pair(std::to_string(sent), std::to_string(answered));
+  };
+  // `others`: that many more flooders of the same kind under the second flooding identity
+  // (--secure), at the same time.
   const auto run_flood = [&](const std::string& kind, int processes, Clock::duration pause, int cpu,
-                             int nice_value, const std::string& label) {
+                             int nice_value, const std::string& label, int others = 0) {
     Flood f;
     if (flood_seconds <= 0 ||
         (!only.empty() && ("," + only + ",").find("," + label + ",") == std::string::npos))
@@ -488,13 +511,17 @@ int main(int argc, char** argv) {
     const double rss_before = quiet_peak();
     RssWatch watch(monocled);
     std::vector<pid_t> floods;
-    for (int i = 0; i < processes; ++i) {
-      floods.push_back(
-          Spawn(WorkerArgs({self.string(), "--worker", kind, "--flood-seconds",
-                            std::to_string(flood_seconds), "--domain", std::to_string(domain)},
-                           flood_identity, cpu, nice_value),
-                dir + "/" + kind + std::to_string(i) + ".log"));
-    }
+    const auto spawn = [&](const std::string& identity, const std::string& prefix, int count) {
+      for (int i = 0; i < count; ++i) {
+        floods.push_back(
+            Spawn(WorkerArgs({self.string(), "--worker", kind, "--flood-seconds",
+                              std::to_string(flood_seconds), "--domain", std::to_string(domain)},
+                             identity, cpu, nice_value),
+                  dir + "/" + prefix + std::to_string(i) + ".log"));
+      }
+    };
+    spawn(flood_identity, kind, processes);
+    spawn(other_flood_identity, "other-" + kind, others);
     std::this_thread::sleep_for(1s);  // their discovery; the flood is on from here
     f.good = QueryFor(*client,
                       std::chrono::duration_cast<Clock::duration>(
@@ -502,17 +529,8 @@ int main(int argc, char** argv) {
                       1 << 30, pause);
     for (const pid_t flood : floods) waitpid(flood, nullptr, 0);
     f.rss_growth = watch.Stop() - rss_before;
-    uint64_t sent = 0, answered = 0;
-    for (int i = 0; i < processes; ++i) {
-      std::ifstream in(dir + "/" + kind + std::to_string(i) + ".log");
-      for (std::string line; std::getline(in, line);)
-        if (line.rfind("sent ", 0) == 0)
-          sent += std::stoull(line.substr(5));
-        else if (line.rfind("answered ", 0) == 0)
-          answered += std::stoull(line.substr(9));
-    }
-    f.sent = std::to_string(sent);
-    f.answered = std::to_string(answered);
+    std::tie(f.sent, f.answered) = sum_logs(kind, processes);
+    std::tie(f.other_sent, f.other_answered) = sum_logs("other-" + kind, others);
     return f;
   };
   const Flood unique_ids = run_flood("flood", 1, 5ms, flood_cpu, 0, "flood1");
@@ -521,6 +539,11 @@ int main(int argc, char** argv) {
   // under their own ids; the good client asks every 20 ms.
   const Flood writers64 = run_flood("flood-64-writers", 1, 20ms, flood_cpu, 0, "flood-64-writers1");
   const Flood participants8 = run_flood("flood-same-id", 8, 20ms, flood_cpu, 0, "flood-same-id8");
+  // Under --secure: 8 participants of one identity and 1 of another, flooding at once. Each
+  // identity is one client, so both are answered alike (as 9 clients the first would get 8
+  // shares in 9), however much of the flood monocled's CPU can decrypt.
+  const Flood identities =
+      secure ? run_flood("flood-same-id", 8, 20ms, flood_cpu, 0, "identities", 1) : Flood{};
   // On monocled's own CPUs the scheduler shares them out among runnable threads: 8 busy
   // flooders take most of them at equal weight, and give them back when monocled's weight is
   // above theirs (here their nice 19; on a robot systemd's CPUWeight or docker --cpu-shares).
@@ -604,6 +627,10 @@ int main(int argc, char** argv) {
               << ",\"participants8_good_p50_ms\":" << Percentile(participants8.good.ms, 0.5)
               << ",\"participants8_good_p99_ms\":" << Percentile(participants8.good.ms, 0.99)
               << ",\"participants8_good_max_ms\":" << Percentile(participants8.good.ms, 1.0)
+              << ",\"identities_first_sent\":" << identities.sent
+              << ",\"identities_first_answered\":" << identities.answered
+              << ",\"identities_second_sent\":" << identities.other_sent
+              << ",\"identities_second_answered\":" << identities.other_answered
               << ",\"secure\":" << (secure ? "true" : "false")
               << ",\"floods_apart\":" << (flood_cpu >= 0 ? "true" : "false")
               << ",\"shared_good_queries\":" << shared_equal.good.ms.size()
@@ -641,6 +668,11 @@ int main(int argc, char** argv) {
         << " MB (goal <= 50)\n"
         << FairnessLine("one participant, 64 request writers", writers64)
         << FairnessLine("8 flooding participants", participants8)
+        << (secure ? "8 participants of one identity and 1 of another at once: " +
+                         identities.answered + " and " + identities.other_answered + " answered (" +
+                         identities.sent + " and " + identities.other_sent +
+                         " sent; alike: one client each)\n"
+                   : std::string())
         << (co_located ? FairnessLine("8 flooding participants on monocled's CPUs, equal weight "
                                       "(the host's scheduler decides)",
                                       shared_equal, "") +

@@ -89,20 +89,21 @@ TEST(HostileInputTest, AHugeRequestCostsNoMemoryAndTheServiceKeepsAnswering) {
 }
 
 // Under DDS Security a client is its authenticated identity: eight participants of one
-// 'reader' identity flooding together are answered no more than one of them alone (counted
-// as participants, they would share the service's rate with the good client eight to one).
+// 'reader' identity and one participant of another, flooding at once, are answered alike
+// (counted as participants, the first would get eight shares to the second's one). Compared
+// within one run, since how much of a flood monocled can decrypt depends on the machine.
 TEST(HostileInputTest, UnderSecurityMoreParticipantsOfOneIdentityGainNothing) {
   TempDir dir("monocle_hostile_secure_test");
   const std::string out = RunHostileLoad(dir,
                                          "--secure --domain 54 --points 1 --flood-seconds 3 "
                                          "--clients 1 --queries 1 --storm-clients 0 "
-                                         "--only flood-same-id1,flood-same-id8");
+                                         "--only identities");
   ASSERT_FALSE(out.empty());
   EXPECT_EQ(Field(out, "secure"), 1) << out;
-  const double one = Field(out, "same_id_flood_answered");
-  const double eight = Field(out, "participants8_answered");
-  EXPECT_GT(one, 1000) << out;
-  EXPECT_LE(eight, 1.3 * one) << out;
+  const double eight = Field(out, "identities_first_answered");
+  const double one = Field(out, "identities_second_answered");
+  EXPECT_GT(one, 500) << out;
+  EXPECT_LE(eight, 2 * one) << out;
   EXPECT_EQ(Field(out, "service_alive"), 1) << out;
 }
 
