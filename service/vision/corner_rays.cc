@@ -26,10 +26,12 @@ struct Ring {
   // The step at image angle `angle`; false where a window left the image.
   bool StepAt(double angle, double* out) const {
     // Rounded half away from zero, as std::lround, without its library call (360 directions
-    // times every ring, each frame).
+    // times every ring, each frame), and wrapped by subtraction, not a division: the angle is
+    // within a turn or two of [-pi, pi).
     const double at = angle / (2 * kPi) * samples;
-    int i = (at >= 0 ? static_cast<int>(at + 0.5) : -static_cast<int>(0.5 - at)) % samples;
-    if (i < 0) i += samples;
+    int i = at >= 0 ? static_cast<int>(at + 0.5) : -static_cast<int>(0.5 - at);
+    while (i < 0) i += samples;
+    while (i >= samples) i -= samples;
     if (!step_valid[i]) return false;
     *out = step[i];
     return true;
@@ -67,9 +69,13 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   // Prefix sums over two turns, so that windows wrap round.
   std::vector<double> sum(2 * n + 1, 0);
   std::vector<int> valid(2 * n + 1, 0);
-  for (int i = 0; i < 2 * n; ++i) {
-    sum[i + 1] = sum[i] + value[i % n];
-    valid[i + 1] = valid[i] + ok[i % n];
+  // (Two loops, not one with i % n: that division was a good part of the check's time.)
+  for (int turn = 0; turn < 2; ++turn) {
+    for (int j = 0; j < n; ++j) {
+      const int i = turn * n + j;
+      sum[i + 1] = sum[i] + value[j];
+      valid[i + 1] = valid[i] + ok[j];
+    }
   }
   const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
   const int gap = static_cast<int>(std::ceil(o.step_gap_px / per_sample));
