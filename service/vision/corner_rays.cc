@@ -84,8 +84,8 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   ring.step_valid.assign(n, 0);
   for (int i = 0; i < n; ++i) {
     // Counter-clockwise window [i + gap, i + gap + width), clockwise [i - gap - width + 1,
-    // i - gap], both shifted one turn on so that indices stay in [0, 2n).
-    const int ccw = i + n + gap, cw = i + n - gap - width + 1;
+    // i - gap] shifted one turn on: both within the prefix sums' two turns, [0, 2n].
+    const int ccw = i + gap, cw = i + n - gap - width + 1;
     if (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width)
       continue;
     ring.step[i] =

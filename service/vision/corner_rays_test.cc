@@ -62,6 +62,17 @@ TEST(CornerRaysTest, AFourthEdgeIsFoundWithItsStepAndDirection) {
   EXPECT_NEAR(ray.angle_rad * 180 / kPi, -90, 1);
 }
 
+// Where each ring's samples wrap round (image angle 0, approached from below), its step
+// windows reach across the wrap: a ray just below 0 degrees is read as any other.
+TEST(CornerRaysTest, ARayWhereTheRingsWrapIsFoundWithItsStep) {
+  for (const double angle : {-6.0, -2.0, 3.0}) {
+    const cv::Mat image = Sectors({-150, -30, angle, 90}, {200, 170, 130, 150});
+    const OtherRay ray = StrongestOtherRay(image, kCorner, kY);
+    EXPECT_NEAR(ray.step_grey, 40, 3) << "at " << angle << " degrees";
+    EXPECT_NEAR(ray.angle_rad * 180 / kPi, angle, 1);
+  }
+}
+
 TEST(CornerRaysTest, ALineThatMissesTheCornerIsNotARay) {
   cv::Mat image = Sectors({-150, -30, 90}, {200, 170, 150});
   // A dark cable 25 px from the corner, across the ceiling, and a picture frame's edge.

@@ -38,6 +38,10 @@ std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const Corn
 std::array<double, 3> EdgeSigmaPx(const CameraIntrinsics& k, const CornerPrediction& prediction) {
   std::array<double, 3> sigma_px{};
   const CornerPose& pose = prediction.pose;
+  // The pose moved by 1 sigma along each of its five parameters (x, y, pan, tilt, swing).
+  std::array<CornerPose, 5> moved;
+  for (int i = 0; i < 5; ++i)
+    moved[i] = MovedBy(pose, prediction.sigma(i) * Eigen::Matrix<double, 5, 1>::Unit(i));
   const double scale = std::max(CameraPosition(pose).norm(), 0.1);
   auto project = [&k](const CornerPose& p, const Eigen::Vector3d& corner_point,
                       Eigen::Vector2d* px) {
@@ -68,10 +72,8 @@ std::array<double, 3> EdgeSigmaPx(const CameraIntrinsics& k, const CornerPredict
       const Eigen::Vector2d normal(-along.y(), along.x());
       double variance = 0;
       for (int i = 0; i < 5; ++i) {
-        const CornerPose moved =
-            MovedBy(pose, prediction.sigma(i) * Eigen::Matrix<double, 5, 1>::Unit(i));
         Eigen::Vector2d px;
-        const double across = project(moved, points[j], &px)
+        const double across = project(moved[i], points[j], &px)
                                   ? normal.dot(px - pixels[j])
                                   : std::numeric_limits<double>::infinity();
         variance += across * across;
