@@ -3,6 +3,7 @@
 // /camera/image_raw, monocled reads them through a camera configured as
 // device "ros:/camera/image_raw", and ROS 2 readers on Fast DDS receive its pose, camera_info,
 // tf and diagnostics. Separate processes on loopback.
+#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -14,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "idl/cli_output.pb.h"
 #include "tests/integration/cli_process.h"
 #include "tests/integration/service_process.h"
 
@@ -41,12 +43,25 @@ std::vector<std::vector<std::string>> Words(const std::string& text) {
   return lines;
 }
 
+// `corner locate --camera --json` or `replay --json`: one pose a line.
+std::vector<proto::LivePoseOutput> LivePoses(const std::string& text) {
+  std::vector<proto::LivePoseOutput> poses;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    proto::LivePoseOutput pose;
+    EXPECT_TRUE(google::protobuf::util::JsonStringToMessage(line, &pose).ok()) << line;
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
 class RosImageTopicTest : public ::testing::Test {
  protected:
   // Three realistic frames of a robot moving 1 cm at a time under the corner, the camera's
   // calibration, and monocled with one camera reading the image topic (`camera_entry`, by
   // default with the calibration file).
-  void StartService(int domain, const std::string& camera_entry = "calibration: \"cal.pbtxt\"") {
+  void StartService(int domain, const std::string& camera_entry = "calibration: \"cal.pbtxt\"",
+                    const std::vector<std::string>& monocled_args = {}) {
     domain_ = domain;
     std::ofstream(dir_ / "cal.pbtxt")
         << "intrinsics { width: 1280 height: 1024 fx: 1624.34 fy: 1623.04 cx: 634.77 "
@@ -61,10 +76,12 @@ class RosImageTopicTest : public ::testing::Test {
       ASSERT_EQ(r.exit_code, 0) << r.err;
       frames_.push_back(frame);
     }
-    monocled_ = StartMonocled(dir_, "domain: " + std::to_string(domain) +
-                                        "\ncamera { id: \"front\" role: CORNER device: "
-                                        "\"ros:/camera/image_raw\" " +
-                                        camera_entry + " }\n");
+    monocled_ = StartMonocled(dir_,
+                              "domain: " + std::to_string(domain) +
+                                  "\ncamera { id: \"front\" role: CORNER device: "
+                                  "\"ros:/camera/image_raw\" " +
+                                  camera_entry + " }\n",
+                              monocled_args);
   }
 
   std::unique_ptr<ChildProcess> Publish(const std::string& qos, const std::string& encoding,
@@ -194,6 +211,76 @@ TEST_F(RosImageTopicTest, WithoutACalibrationFileTheDriversCameraInfoGivesTheInt
   EXPECT_NE(ReadFile(dir_ / "monocled.log").find("takes its intrinsics from camera_info"),
             std::string::npos);
   EXPECT_EQ(publisher->Stop(), 0);
+}
+
+// What monocled does with any camera it does with an image topic's: after the first frame the
+// driver's frames are tracked, and monocled's recording of them replays to the rendered truth.
+TEST_F(RosImageTopicTest, AnImageTopicsFramesAreTrackedRecordedAndReplayed) {
+  const std::string recording = dir_ / "front.mcap";
+  ASSERT_NO_FATAL_FAILURE(StartService(77, "calibration: \"cal.pbtxt\"",
+                                       {"--record", recording, "--record-frames", "every"}));
+  auto publisher = Publish("sensor", "mono8", 60);
+  auto r = RunMonocle(dir_, "corner locate --camera front --domain 77 --count 8 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << ReadFile(dir_ / "monocled.log");
+  int tracked = 0;
+  for (const auto& live : LivePoses(r.out)) tracked += live.pose().source() == "tracked";
+  EXPECT_GE(tracked, 6) << "each frame moves 1 cm (2 cm back after the third):\n" << r.out;
+  EXPECT_EQ(publisher->Stop(), 0) << ReadFile(dir_ / "publisher.log");
+  ASSERT_EQ(monocled_->Stop(), 0) << ReadFile(dir_ / "monocled.log");
+  monocled_.reset();
+
+  r = RunMonocle(dir_, "replay --json " + recording);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int replayed = 0;
+  for (const auto& pose : LivePoses(r.out)) {
+    ASSERT_FALSE(pose.pose().has_error()) << "every recorded frame gives a pose";
+    // The stamp's nanoseconds name the frame.
+    const size_t frame = static_cast<size_t>(pose.capture_time_ns() % 1000000000);
+    ASSERT_LT(frame, truth_.size());
+    EXPECT_LT(std::abs(pose.pose().x() - truth_[frame].x), 0.01 * 2.5) << r.out;
+    ++replayed;
+  }
+  EXPECT_GE(replayed, 8) << "the frames of at least the 8 poses located live: " << r.out;
+}
+
+// A camera on an image topic in a room map: the driver's frames of the example hall (rendered
+// along a short drive) give the robot's pose in the map, near the drive's truth.
+TEST_F(RosImageTopicTest, AnImageTopicsFramesGiveTheRobotsPoseInARoomMap) {
+  const std::string examples = std::string(MONOCLE_SOURCE_DIR) + "/idl/examples/";
+  std::ofstream(dir_ / "drive.txt") << "1.42 1.30 -20\n1.44 1.30 -20\n1.46 1.31 -19\n";
+  auto r = RunMonocle(dir_, "render room --map " + examples + "room_map.pbtxt --mount " + examples +
+                                "camera_mount.pbtxt --calibration " + examples +
+                                "wide_camera.pbtxt --trajectory " + dir_ / "drive.txt" +
+                                " --realistic --seed 6301 --out " + dir_ / "frames");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<Truth> truth{{1.42, 1.30, 0}, {1.44, 1.30, 0}, {1.46, 1.31, 0}};
+  for (int i = 0; i < 3; ++i)
+    frames_.push_back(dir_ / ("frames/frame_000" + std::to_string(i) + ".png"));
+  domain_ = 78;
+  monocled_ = StartMonocled(dir_,
+                            "domain: 78\ncamera { id: \"front\" role: CORNER device: "
+                            "\"ros:/camera/image_raw\" calibration: \"" +
+                                examples + "wide_camera.pbtxt\" room_map: \"" + examples +
+                                "room_map.pbtxt\" initial_pose: [1.4, 1.3, -20] mount { "
+                                "base_frame: \"base_link\" translation_m: [0.1, 0, 0.4] "
+                                "rotation_xyzw: [-0.2988362, 0.2988362, -0.6408564, "
+                                "0.6408564] } }\n");
+  auto publisher = Publish("sensor", "mono8", 60);
+  r = RunMonocle(dir_, "corner locate --camera front --domain 78 --count 6 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err << ReadFile(dir_ / "monocled.log");
+  int located = 0;
+  for (const auto& live : LivePoses(r.out)) {
+    if (live.pose().has_error()) continue;  // a realistic frame may show no corner clearly
+    const auto& map = live.pose().map();
+    ASSERT_EQ(map.status(), "located") << r.out;
+    const size_t frame = static_cast<size_t>(live.capture_time_ns() % 1000000000);
+    ASSERT_LT(frame, truth.size());
+    EXPECT_LT(std::hypot(map.pose().x() - truth[frame].x, map.pose().y() - truth[frame].y), 0.06)
+        << "frame " << frame << ": " << r.out;
+    ++located;
+  }
+  EXPECT_GE(located, 4) << "of 6: " << r.out;
+  EXPECT_EQ(publisher->Stop(), 0) << ReadFile(dir_ / "publisher.log");
 }
 
 // A floor camera on an image topic: calibrated live from the driver's frame of a board on the
