@@ -161,7 +161,8 @@ TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive)
 }
 
 // Bayer frames with ROS 2's default QoS (reliable) are read too; when the driver stops, the
-// camera's status says the topic went quiet, and it streams again when frames come back.
+// camera's status and ROS 2's /diagnostics say the topic went quiet, and it streams again
+// when frames come back.
 TEST_F(RosImageTopicTest, DefaultQosBayerFramesAndAQuietTopicIsReported) {
   ASSERT_NO_FATAL_FAILURE(StartService(74));
   auto publisher = Publish("default", "bayer_rggb8", 4);
@@ -174,7 +175,19 @@ TEST_F(RosImageTopicTest, DefaultQosBayerFramesAndAQuietTopicIsReported) {
   EXPECT_EQ(r.exit_code, 0) << "a camera being waited for is not a failure:\n" << r.out << r.err;
   EXPECT_NE(r.out.find("reconnecting"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("no image on /camera/image_raw"), std::string::npos) << r.out;
-
+  // ROS 2's /diagnostics says so too, to a Fast DDS reader: the camera's level is ERROR (2).
+  ChildProcess reader(PeerBinary(),
+                      {"read", "--domain", "74", "--namespace", "/monocle/front", "--seconds", "3",
+                       "--out", dir_ / "quiet.txt"},
+                      dir_ / "reader.log");
+  ASSERT_EQ(reader.WaitFor(std::chrono::seconds(20)), 0) << ReadFile(dir_ / "reader.log");
+  std::string quiet;  // the camera's last status in /diagnostics
+  std::istringstream quiet_lines(ReadFile(dir_ / "quiet.txt"));
+  for (std::string line; std::getline(quiet_lines, line);)
+    if (line.starts_with("diagnostics monocle: front ")) quiet = line;
+  EXPECT_NE(quiet.find(" level=2 message=reconnecting: no image on /camera/image_raw"),
+            std::string::npos)
+      << ReadFile(dir_ / "quiet.txt");
   publisher = Publish("default", "mono8", 30);
   r = RunMonocle(dir_, "corner locate --camera front --domain 74 --count 2 --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
