@@ -116,7 +116,8 @@ class RosImageTopicTest : public ::testing::Test {
 };
 
 // The driver's frames (rgb8, sensor-data QoS: best effort) give poses that match the rendered
-// truth, stamped with the frame's own stamp; Fast DDS readers receive every topic.
+// truth, stamped with the frame's own stamp; Fast DDS readers receive every topic, and ROS 2's
+// graph shows monocled's node with their writers.
 TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive) {
   ASSERT_NO_FATAL_FAILURE(StartService(73));
   auto publisher = Publish("sensor", "rgb8", 30);
@@ -127,7 +128,8 @@ TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive)
   ASSERT_EQ(reader.WaitFor(std::chrono::seconds(30)), 0) << ReadFile(dir_ / "reader.log");
   const auto lines = Words(ReadFile(dir_ / "read.txt"));
   std::map<std::string, int> count;
-  std::string last_diagnostic_level;
+  std::string last_diagnostic_level, node_namespace, node_writers;
+  std::map<std::string, std::string> writer_of;  // DDS topic: its writer's GUID
   for (const auto& w : lines) {
     ++count[w[0]];
     if (w[0] == "pose") {
@@ -150,7 +152,22 @@ TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive)
       EXPECT_EQ(w[2], "front_optical");
     } else if (w[0] == "diagnostics" && w.size() > 3 && w[2] == "front") {
       last_diagnostic_level = w[3];
+    } else if (w[0] == "writer") {
+      writer_of[w[1]] = w[2];
+    } else if (w[0] == "graph" && w.size() == 6 && w[3] == "monocled") {
+      node_namespace = w[2];
+      node_writers = w[4];
     }
+  }
+  // ROS 2's graph (ros_discovery_info, read as rmw_fastrtps's graph cache reads it) names
+  // monocled's node, and lists the writer of every topic this reader received.
+  EXPECT_EQ(node_namespace, "/") << "no node /monocled in ros_discovery_info";
+  for (const std::string topic :
+       {"rt/monocle/front/pose", "rt/monocle/front/camera_info", "rt/tf", "rt/diagnostics"}) {
+    ASSERT_EQ(writer_of.count(topic), 1u) << topic;
+    EXPECT_NE(node_writers.find(writer_of[topic]), std::string::npos)
+        << topic << "'s writer " << writer_of[topic] << " is not among /monocled's "
+        << node_writers;
   }
   EXPECT_GE(count["pose"], 20) << "8 s of a 10 Hz driver";
   EXPECT_GE(count["camera_info"], 1);

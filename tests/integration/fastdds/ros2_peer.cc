@@ -8,7 +8,8 @@
 //     publishes the frames in turn; frame i of the files carries stamp {1000 + n, i}. With
 //     --camera-info, a plumb_bob sensor_msgs/CameraInfo beside each on <topic's dir>/camera_info.
 //   ros2_peer read --domain D --namespace /monocle/front --seconds S --out FILE
-//     prints one line per sample of <ns>/pose, <ns>/camera_info, /tf and /diagnostics.
+//     prints one line per sample of <ns>/pose, <ns>/camera_info, /tf, /diagnostics and
+//     ros_discovery_info (ROS 2's graph), and each writer's GUID once.
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -20,6 +21,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -28,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -231,23 +234,55 @@ struct TopicReader {
   std::function<bool(fdds::DataReader*, std::ostream&)> take_one;
 };
 
+// A GUID (or a ROS Gid's first 16 bytes) as 32 hex digits.
+template <typename Bytes>
+std::string Hex(const Bytes& bytes, size_t count) {
+  static const char* digits = "0123456789abcdef";
+  std::string hex;
+  for (size_t i = 0; i < count; ++i) {
+    const auto b = static_cast<uint8_t>(bytes[i]);
+    hex += digits[b >> 4];
+    hex += digits[b & 15];
+  }
+  return hex;
+}
+
+std::string HexOf(const eprosima::fastrtps::rtps::GUID_t& guid) {
+  std::array<uint8_t, 16> bytes;
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), bytes.begin());
+  std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value), bytes.begin() + 12);
+  return Hex(bytes, bytes.size());
+}
+
+// Reads `dds_topic` with ROS 2's default QoS, or with `graph_qos` as rmw_dds_common's graph
+// cache reads ros_discovery_info (reliable, transient-local, keep-last 1). The first sample
+// of each writer also prints "writer <topic> <its GUID>".
 template <typename PubSub, typename Message>
 TopicReader OpenReader(fdds::DomainParticipant* participant, fdds::Subscriber* subscriber,
-                       const std::string& ros_topic,
-                       std::function<void(const Message&, std::ostream&)> print) {
+                       const std::string& dds_topic,
+                       std::function<void(const Message&, std::ostream&)> print,
+                       bool graph_qos = false) {
   fdds::TypeSupport type = RosType(new PubSub());
   type.register_type(participant);
   fdds::Topic* topic =
-      participant->create_topic("rt" + ros_topic, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+      participant->create_topic(dds_topic, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   fdds::DataReaderQos qos = fdds::DATAREADER_QOS_DEFAULT;
   SetRosQos(&qos, false);
+  if (graph_qos) {
+    qos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
+    qos.history().depth = 1;
+  }
   TopicReader r;
   r.reader = subscriber->create_datareader(topic, qos);
-  r.take_one = [print](fdds::DataReader* reader, std::ostream& out) {
+  auto writers_seen = std::make_shared<std::set<std::string>>();
+  r.take_one = [print, dds_topic, writers_seen](fdds::DataReader* reader, std::ostream& out) {
     Message m;
     fdds::SampleInfo info;
     if (reader->take_next_sample(&m, &info) != ReturnCode_t::RETCODE_OK) return false;
-    if (info.valid_data) print(m, out);
+    if (!info.valid_data) return true;
+    print(m, out);
+    const std::string writer = HexOf(info.sample_identity.writer_guid());
+    if (writers_seen->insert(writer).second) out << "writer " << dds_topic << " " << writer << "\n";
     return true;
   };
   return r;
@@ -260,7 +295,8 @@ std::vector<TopicReader> OpenReaders(fdds::DomainParticipant* p, fdds::Subscribe
   std::vector<TopicReader> readers;
   readers.push_back(
       OpenReader<gm::PoseWithCovarianceStamped_PubSubType, gm::PoseWithCovarianceStamped_>(
-          p, s, ns + "/pose", [](const gm::PoseWithCovarianceStamped_& m, std::ostream& out) {
+          p, s, "rt" + ns + "/pose",
+          [](const gm::PoseWithCovarianceStamped_& m, std::ostream& out) {
             const auto& pose = m.pose().pose();
             out << "pose " << m.header().stamp().sec() << " " << m.header().stamp().nanosec() << " "
                 << m.header().frame_id() << " " << pose.position().x() << " " << pose.position().y()
@@ -269,13 +305,13 @@ std::vector<TopicReader> OpenReaders(fdds::DomainParticipant* p, fdds::Subscribe
                 << pose.orientation().w() << " " << m.pose().covariance()[0] << "\n";
           }));
   readers.push_back(OpenReader<sm::CameraInfo_PubSubType, sm::CameraInfo_>(
-      p, s, ns + "/camera_info", [](const sm::CameraInfo_& m, std::ostream& out) {
+      p, s, "rt" + ns + "/camera_info", [](const sm::CameraInfo_& m, std::ostream& out) {
         out << "camera_info " << m.header().frame_id() << " " << m.width() << " " << m.height()
             << " " << m.k()[0] << " " << m.k()[4] << " " << m.k()[2] << " " << m.k()[5] << "\n";
       }));
   readers.push_back(
       OpenReader<tf2_msgs::msg::dds_::TFMessage_PubSubType, tf2_msgs::msg::dds_::TFMessage_>(
-          p, s, "/tf", [](const tf2_msgs::msg::dds_::TFMessage_& m, std::ostream& out) {
+          p, s, "rt/tf", [](const tf2_msgs::msg::dds_::TFMessage_& m, std::ostream& out) {
             for (const auto& t : m.transforms()) {
               out << "tf " << t.header().frame_id() << " " << t.child_frame_id() << " "
                   << t.transform().translation().x() << " " << t.transform().translation().y()
@@ -284,7 +320,7 @@ std::vector<TopicReader> OpenReaders(fdds::DomainParticipant* p, fdds::Subscribe
           }));
   readers.push_back(OpenReader<diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType,
                                diagnostic_msgs::msg::dds_::DiagnosticArray_>(
-      p, s, "/diagnostics",
+      p, s, "rt/diagnostics",
       [](const diagnostic_msgs::msg::dds_::DiagnosticArray_& m, std::ostream& out) {
         for (const auto& st : m.status()) {
           out << "diagnostics " << st.name() << " level=" << int{st.level()}
@@ -293,6 +329,21 @@ std::vector<TopicReader> OpenReaders(fdds::DomainParticipant* p, fdds::Subscribe
           out << "\n";
         }
       }));
+  // ROS 2's graph, as `ros2 node list` learns it: per participant its nodes and their
+  // endpoints ("graph <participant> <namespace> <name> writers=<gid>,... readers=N").
+  namespace dc = rmw_dds_common::msg::dds_;
+  readers.push_back(
+      OpenReader<dc::ParticipantEntitiesInfo_PubSubType, dc::ParticipantEntitiesInfo_>(
+          p, s, "ros_discovery_info",
+          [](const dc::ParticipantEntitiesInfo_& m, std::ostream& out) {
+            for (const auto& node : m.node_entities_info_seq()) {
+              out << "graph " << Hex(m.gid().data(), 16) << " " << node.node_namespace() << " "
+                  << node.node_name() << " writers=";
+              for (const auto& gid : node.writer_gid_seq()) out << Hex(gid.data(), 16) << ",";
+              out << " readers=" << node.reader_gid_seq().size() << "\n";
+            }
+          },
+          true));
   return readers;
 }
 
