@@ -152,6 +152,13 @@ TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive)
       EXPECT_EQ(w[2], "front_optical");
     } else if (w[0] == "diagnostics" && w.size() > 3 && w[2] == "front") {
       last_diagnostic_level = w[3];
+    } else if (w[0] == "image") {
+      // image SEC NANOSEC FRAME_ID WIDTH HEIGHT ENCODING: the frame monocled measured, as the
+      // driver stamped and named it.
+      ASSERT_EQ(w.size(), 7u);
+      EXPECT_GE(std::stoi(w[1]), 1000);
+      EXPECT_EQ(w[3], "camera_optical_frame") << "the driver's frame id is kept";
+      EXPECT_EQ(w[4] + "x" + w[5], "1280x1024");
     } else if (w[0] == "writer") {
       writer_of[w[1]] = w[2];
     } else if (w[0] == "graph" && w.size() == 6 && w[3] == "monocled") {
@@ -173,6 +180,7 @@ TEST_F(RosImageTopicTest, AFastDdsDriversFramesBecomePosesFastDdsReadersReceive)
   EXPECT_GE(count["camera_info"], 1);
   EXPECT_GE(count["tf"], 20);
   EXPECT_GE(count["diagnostics"], 1);
+  EXPECT_GE(count["image"], 5) << "8 s of frames republished at image_max_rate_hz (5 Hz)";
   EXPECT_EQ(last_diagnostic_level, "level=0") << "the streaming camera is OK";
   EXPECT_EQ(publisher->Stop(), 0) << ReadFile(dir_ / "publisher.log");
 }

@@ -8,8 +8,8 @@
 //     publishes the frames in turn; frame i of the files carries stamp {1000 + n, i}. With
 //     --camera-info, a plumb_bob sensor_msgs/CameraInfo beside each on <topic's dir>/camera_info.
 //   ros2_peer read --domain D --namespace /monocle/front --seconds S --out FILE
-//     prints one line per sample of <ns>/pose, <ns>/camera_info, /tf, /diagnostics and
-//     ros_discovery_info (ROS 2's graph), and each writer's GUID once.
+//     prints one line per sample of <ns>/pose, <ns>/camera_info, <ns>/image_raw, /tf,
+//     /diagnostics and ros_discovery_info (ROS 2's graph), and each writer's GUID once.
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -308,6 +308,12 @@ std::vector<TopicReader> OpenReaders(fdds::DomainParticipant* p, fdds::Subscribe
       p, s, "rt" + ns + "/camera_info", [](const sm::CameraInfo_& m, std::ostream& out) {
         out << "camera_info " << m.header().frame_id() << " " << m.width() << " " << m.height()
             << " " << m.k()[0] << " " << m.k()[4] << " " << m.k()[2] << " " << m.k()[5] << "\n";
+      }));
+  readers.push_back(OpenReader<sm::Image_PubSubType, sm::Image_>(
+      p, s, "rt" + ns + "/image_raw", [](const sm::Image_& m, std::ostream& out) {
+        out << "image " << m.header().stamp().sec() << " " << m.header().stamp().nanosec() << " "
+            << m.header().frame_id() << " " << m.width() << " " << m.height() << " " << m.encoding()
+            << "\n";
       }));
   readers.push_back(
       OpenReader<tf2_msgs::msg::dds_::TFMessage_PubSubType, tf2_msgs::msg::dds_::TFMessage_>(
