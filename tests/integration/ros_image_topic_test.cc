@@ -243,6 +243,8 @@ TEST_F(RosImageTopicTest, WithoutACalibrationFileTheDriversCameraInfoGivesTheInt
     double nearest = 1e9;
     for (const auto& t : truth_) nearest = std::min(nearest, std::abs(x - t.x));
     EXPECT_LT(nearest, 0.01 * 2.5) << line;
+    EXPECT_NE(line.find("\"sigma_excludes_intrinsics\":true"), std::string::npos)
+        << "camera_info has no covariance, and the output says so: " << line;
     ++located;
   }
   EXPECT_GE(located, 5) << r.out;
