@@ -172,7 +172,8 @@ class ServiceClient {
 
   // Takes replies only from this participant (dds::WriterSources; empty: from any).
   void TrustOnly(std::string participant) { trusted_ = std::move(participant); }
-  // Replies to our requests from another participant, dropped, so far.
+  // Replies to our requests (this one or an earlier one) from another participant, dropped, so
+  // far.
   uint64_t foreign_replies() const { return foreign_replies_; }
 
   // Sends `request` (its header is set here) and waits up to `timeout` for its reply, which
@@ -208,11 +209,14 @@ class ServiceClient {
       auto taken = replies_.template Take<std::optional<Out>>(
           std::min({left, until_resend, std::chrono::milliseconds(100)}),
           [&](const Reply& r, const dds_sample_info_t& info) -> std::optional<Out> {
-            if (r.guid != guid() || r.seq != request.seq) return std::nullopt;
+            if (r.guid != guid()) return std::nullopt;
+            // Counted whichever request it answers: a foreign reply that comes after the
+            // service's is as much a spoof as one that comes first.
             if (!trusted_.empty() && sources_->Of(info.publication_handle) != trusted_) {
               ++foreign_replies_;
               return std::nullopt;
             }
+            if (r.seq != request.seq) return std::nullopt;
             return convert(r);
           });
       if (!taken) return taken.error();

@@ -202,8 +202,8 @@ TEST_F(SpoofingTest, FakeRepliesAndCalibrationsAreNotTheCameras) {
       dir_, "floor measure --camera sim-floor 640,900 --domain " + std::to_string(kDomain));
   EXPECT_EQ(cli.exit_code, 0) << cli.err;
   EXPECT_EQ(cli.out.find("x=42"), std::string::npos) << cli.out;
-  // The spoofer answers each query at once, often before the service: some of its replies
-  // reached the client and were reported, not taken.
+  // The spoofer answers each query: its replies reached the client and were reported, not
+  // taken, whether they came before the service's or after.
   EXPECT_TRUE(reported("camera 'sim-floor' (/monocle/sim_floor): ")) << "no foreign reply reported";
   EXPECT_TRUE(
       reported("measure_points replies not taken: they came from a participant that "
