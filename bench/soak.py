@@ -5,7 +5,7 @@ resident memory, threads and open file descriptors, then report each one's trend
 The load, repeated until the duration is over: a pose stream read for 2 s, a status query,
 a 20 000-point floor query (as many as a command line holds comfortably), a one-point one. Samples go to a CSV (seconds, RSS in
 MB, threads, descriptors); the report gives first and last values and the least-squares slope
-per hour after the first minute (start-up excluded). Exit status 1 when a client failed.
+per hour after the first minute (start-up excluded), with its 1-sigma. Exit status 1 when a client failed.
 
   bench/soak.py --duration 3600            # the one-hour soak (issue 62), binaries in build/
   bench/soak.py --duration 120 --csv s.csv # a quick look
@@ -32,13 +32,18 @@ def sample(pid):
 
 
 def slope_per_hour(times, values):
+    """The least-squares slope per hour and its 1-sigma from the scatter about the line (the
+    samples taken as independent; the clients' load makes RSS jump a few MB either way)."""
     n = len(times)
-    if n < 2:
-        return 0.0
+    if n < 3:
+        return 0.0, 0.0
     mt, mv = sum(times) / n, sum(values) / n
     var = sum((t - mt) ** 2 for t in times)
-    cov = sum((t - mt) * (v - mv) for t, v in zip(times, values))
-    return 3600.0 * cov / var if var > 0 else 0.0
+    if var <= 0:
+        return 0.0, 0.0
+    b = sum((t - mt) * (v - mv) for t, v in zip(times, values)) / var
+    scatter = sum((v - mv - b * (t - mt)) ** 2 for t, v in zip(times, values)) / (n - 2)
+    return 3600.0 * b, 3600.0 * (scatter / var) ** 0.5
 
 
 def main():
@@ -99,9 +104,10 @@ def main():
     times = [r[0] for r in settled]
     for index, name, unit in ((1, "RSS", "MB"), (2, "threads", ""), (3, "descriptors", "")):
         values = [r[index] for r in settled]
+        slope, sigma = slope_per_hour(times, values)
         print(f"{name}: first {rows[0][index]:.1f} {unit}, after 1 min {values[0]:.1f}, "
               f"last {values[-1]:.1f}, min {min(values):.1f}, max {max(values):.1f}, "
-              f"slope {slope_per_hour(times, values):+.2f} {unit}/h".replace("  ", " "))
+              f"slope {slope:+.2f} ± {sigma:.2f} {unit}/h".replace("  ", " "))
     print(f"{len(rows)} samples over {rows[-1][0]:.0f} s, {failures} client failures")
     return 1 if failures else 0
 
