@@ -89,9 +89,10 @@ TEST(HostileInputTest, AHugeRequestCostsNoMemoryAndTheServiceKeepsAnswering) {
 }
 
 // Under DDS Security a client is its authenticated identity: eight participants of one
-// 'reader' identity and one participant of another, flooding at once, are answered alike
-// (counted as participants, the first would get eight shares to the second's one). Compared
-// within one run, since how much of a flood monocled can decrypt depends on the machine.
+// 'reader' identity and one participant of another, flooding at once, each identity over its
+// share, are answered alike (counted as participants, the first would get eight shares to the
+// second's one). The floods are paced under what monocled decrypts even on a busy machine,
+// so this checks the budget, not how the machine's CPU shares out an undecrypted flood.
 TEST(HostileInputTest, UnderSecurityMoreParticipantsOfOneIdentityGainNothing) {
   TempDir dir("monocle_hostile_secure_test");
   const std::string out = RunHostileLoad(dir,
