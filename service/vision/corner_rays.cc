@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -24,19 +25,40 @@ struct Ring {
   std::vector<uint8_t> step_valid;
 
   // The step at image angle `angle`; false where a window left the image.
-  bool StepAt(double angle, double* out) const {
-    // Rounded half away from zero, as std::lround, without its library call (360 directions
-    // times every ring, each frame), and wrapped by subtraction, not a division: the angle is
-    // within a turn or two of [-pi, pi).
-    const double at = angle / (2 * kPi) * samples;
-    int i = at >= 0 ? static_cast<int>(at + 0.5) : -static_cast<int>(0.5 - at);
-    while (i < 0) i += samples;
-    while (i >= samples) i -= samples;
+  bool StepAt(double angle, double* out) const { return StepAtSample(SampleAt(angle), out); }
+  bool StepAtSample(int i, double* out) const {
     if (!step_valid[i]) return false;
     *out = step[i];
     return true;
   }
+  int SampleAt(double angle) const { return SampleOfAngle(angle, samples); }
+
+  // Rounded half away from zero, as std::lround, without its library call, and wrapped by
+  // subtraction, not a division: the angle is within a turn or two of [-pi, pi).
+  static int SampleOfAngle(double angle, int samples) {
+    const double at = angle / (2 * kPi) * samples;
+    int i = at >= 0 ? static_cast<int>(at + 0.5) : -static_cast<int>(0.5 - at);
+    while (i < 0) i += samples;
+    while (i >= samples) i -= samples;
+    return i;
+  }
 };
+
+// The angle of direction bin `bin` (a degree each, from -pi).
+double AngleOfBin(int bin) { return -kPi + 2 * kPi * bin / kAngleBins; }
+
+// Which sample of a ring of `samples` each direction bin reads. A ring's sample count depends
+// on its radius only, so each table is built once per thread (the 360 directions times every
+// ring were a fifth of the check); a map, so that a table stays where it is as others are added.
+const std::array<int, kAngleBins>& SamplesOfBins(int samples) {
+  thread_local std::map<int, std::array<int, kAngleBins>> tables;
+  auto [at, added] = tables.try_emplace(samples);
+  if (added) {
+    for (int bin = 0; bin < kAngleBins; ++bin)
+      at->second[bin] = Ring::SampleOfAngle(AngleOfBin(bin), samples);
+  }
+  return at->second;
+}
 
 Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radius_px,
                  const RayProfileOptions& o) {
@@ -95,7 +117,14 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   return ring;
 }
 
-double AngleBetween(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
+// |remainder(a - b, 2 pi)| for angles in [-pi, pi], without the library call (a thousand a
+// frame): |a - b| <= 2 pi, so the remainder is a - b or 2 pi less it, and 2 pi - |a - b| is
+// exact for |a - b| >= pi (Sterbenz). The same value bit for bit.
+double AngleBetween(double a, double b) {
+  constexpr double kTurn = 2 * kPi;
+  const double apart = std::abs(a - b);
+  return apart <= 0.5 * kTurn ? apart : kTurn - apart;
+}
 
 // The median step of a ray at `angle` over the rings that read it, or false when fewer than
 // RayProfileOptions::min_ring_fraction of them do.
@@ -154,15 +183,19 @@ OtherRay StrongestOtherRay(const cv::Mat& grey, const Eigen::Vector2d& corner_px
   const double reach_px = o.step_gap_px + o.step_width_px + 2;
   const size_t min_rings = std::max<size_t>(3, std::ceil(o.min_ring_fraction * rings.size()));
   std::array<double, kMaxRings> steps;
+  std::vector<const std::array<int, kAngleBins>*> sample_of_bin;
+  for (const Ring& ring : rings) sample_of_bin.push_back(&SamplesOfBins(ring.samples));
   for (int bin = 0; bin < kAngleBins; ++bin) {
-    const double angle = -kPi + 2 * kPi * bin / kAngleBins;
+    const double angle = AngleOfBin(bin);
     double nearest = kPi;
     for (double e : edge_angle) nearest = std::min(nearest, AngleBetween(angle, e));
     if (nearest < exclude_rad) continue;
     size_t count = 0;
-    for (const Ring& ring : rings) {
+    for (size_t j = 0; j < rings.size(); ++j) {
       double s;
-      if (ring.radius_px * nearest >= reach_px && ring.StepAt(angle, &s)) steps[count++] = s;
+      if (rings[j].radius_px * nearest >= reach_px &&
+          rings[j].StepAtSample((*sample_of_bin[j])[bin], &s))
+        steps[count++] = s;
     }
     if (count < min_rings) continue;
     // The step all but other_ray_quantile of the rings show, with one sign (0 if they
