@@ -1,5 +1,6 @@
 #include "idl/protocol/dds.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -50,6 +51,20 @@ Status CheckSecurityDirectory(const std::string& dir) {
                            "security init` (e.g. KEYSTORE/monocled)");
   }
   return Ok{};
+}
+
+std::optional<std::vector<dds_instance_handle_t>> MatchedPublications(dds_entity_t reader) {
+  std::vector<dds_instance_handle_t> handles(64);
+  for (;;) {
+    const dds_return_t n = dds_get_matched_publications(reader, handles.data(), handles.size());
+    if (n < 0) return std::nullopt;
+    if (static_cast<size_t>(n) <= handles.size()) {
+      handles.resize(static_cast<size_t>(n));
+      std::sort(handles.begin(), handles.end());
+      return handles;
+    }
+    handles.resize(static_cast<size_t>(n) + 16);  // more matched meanwhile: ask again
+  }
 }
 
 bool UsesSecurity(dds_entity_t participant) {

@@ -4,10 +4,12 @@
 
 #include <dds/dds.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -235,6 +237,29 @@ class Endpoint {
   Entity writer_, reader_, waitset_;
 };
 
+// The publication handles of the writers matched to `reader` now, sorted; nullopt when DDS
+// cannot say (then nothing should be forgotten for want of a match).
+std::optional<std::vector<dds_instance_handle_t>> MatchedPublications(dds_entity_t reader);
+
+// What a map or set keyed by publication handle keys an entry by.
+inline dds_instance_handle_t PublicationOf(dds_instance_handle_t h) { return h; }
+template <typename Value>
+dds_instance_handle_t PublicationOf(const std::pair<const dds_instance_handle_t, Value>& entry) {
+  return entry.first;
+}
+
+// Erases the entries of `by_publication` whose writer is not in `matched` (sorted) unless
+// `keep(entry)`: a departed client's bookkeeping, which would otherwise stay until its map's
+// cap (Cyclone never hands out a publication handle twice).
+template <typename Container, typename Keep>
+void EraseUnmatched(Container& by_publication, const std::vector<dds_instance_handle_t>& matched,
+                    Keep keep) {
+  std::erase_if(by_publication, [&](const auto& entry) {
+    return !std::binary_search(matched.begin(), matched.end(), PublicationOf(entry)) &&
+           !keep(entry);
+  });
+}
+
 // Which participant wrote a sample a reader took: the participant of the matched writer its
 // publication handle names, as 32 hex digits (its GUID), remembered per handle; empty when the
 // writer is no longer matched. For one reader; not thread-safe.
@@ -259,6 +284,12 @@ class WriterSources {
     }
     return known_[publication] = guid;
   }
+
+  // Forgets the writers no longer matched (`matched`: MatchedPublications of the reader).
+  void ForgetUnmatched(const std::vector<dds_instance_handle_t>& matched) {
+    EraseUnmatched(known_, matched, [](const auto&) { return false; });
+  }
+  size_t known() const { return known_.size(); }
 
  private:
   dds_entity_t reader_;

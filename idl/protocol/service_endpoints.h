@@ -82,6 +82,13 @@ class ServiceServer {
     return WaitForClientReader(header.publication, std::chrono::milliseconds(0));
   }
 
+  // Forgets the request writers no longer matched (`matched`: MatchedPublications of
+  // request_reader()). One matched since is merely looked up again at its next request.
+  void ForgetDepartedClients(const std::vector<dds_instance_handle_t>& matched) {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    EraseUnmatched(matched_clients_, matched, [](dds_instance_handle_t) { return false; });
+  }
+
  private:
   ServiceServer(Endpoint<Request> requests, Endpoint<Reply> replies)
       : requests_(std::move(requests)), replies_(std::move(replies)) {}

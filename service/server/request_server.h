@@ -75,6 +75,7 @@ class RequestServer {
   static constexpr std::chrono::milliseconds kParkedCheck{2};
   static constexpr std::chrono::milliseconds kParkedLimit{3000};
   static constexpr size_t kMaxKnownWriters = 4096;
+  static constexpr std::chrono::seconds kForgetPeriod{10};
   // Each client may send this many requests a second, in bursts of up to kBurst; more are
   // dropped before any work. A robot asks 100-200 times a second, a client asking in a tight
   // loop ~3000 (one round trip is ~0.3 ms). When many clients ask at once the service's
@@ -141,6 +142,7 @@ class RequestServer {
     int64_t seq = 0;          // its newest request
     std::string client;       // who it belongs to (ClientOf)
     bool changed_id = false;  // a flood of made-up clients: refused as it arrives
+    std::chrono::steady_clock::time_point learnt;
   };
   // A client's budget: requests it may still send now.
   struct Budget {
@@ -244,7 +246,8 @@ class RequestServer {
       // Bounded: a long-running service forgets old writers and learns them again.
       if (clients_.size() > kMaxKnownWriters) clients_.clear();
       if (budgets_.size() > kMaxKnownWriters) budgets_.clear();
-      const auto [it, first] = clients_.try_emplace(h.publication, Client{h.guid, h.seq, ""});
+      const auto [it, first] =
+          clients_.try_emplace(h.publication, Client{h.guid, h.seq, "", false, now});
       Client& c = it->second;
       if (c.client.empty() || c.client.rfind("writer ", 0) == 0) c.client = ClientOf(pc, h);
       *client = c.client;
@@ -382,6 +385,41 @@ class RequestServer {
         tick_();
         lock.lock();
       }
+      if (const auto now = std::chrono::steady_clock::now(); now >= next_forget_) {
+        next_forget_ = now + kForgetPeriod;
+        lock.unlock();
+        ForgetDeparted();
+        lock.lock();
+      }
+    }
+  }
+
+  // Departed clients' bookkeeping (a few hundred bytes each), forgotten every kForgetPeriod
+  // instead of growing until kMaxKnownWriters: their writers are no longer matched, and a
+  // budget idle for a second and full again is a new client's. DDS is asked outside
+  // ids_mutex_, which OnArrival takes under the reader's history lock.
+  void ForgetDeparted() {
+    const auto asked = std::chrono::steady_clock::now();
+    std::vector<std::vector<dds_instance_handle_t>> matched;
+    std::vector<dds_instance_handle_t> all;
+    for (auto& pc : servers_) {
+      auto handles = dds::MatchedPublications(pc->server->request_reader());
+      if (!handles) return;  // DDS cannot say now: forget nothing
+      pc->server->ForgetDepartedClients(*handles);
+      all.insert(all.end(), handles->begin(), handles->end());
+      matched.push_back(std::move(*handles));
+    }
+    std::sort(all.begin(), all.end());
+    std::lock_guard<std::mutex> lock(ids_mutex_);
+    // A writer learnt since the question may have matched since: kept until the next sweep.
+    dds::EraseUnmatched(clients_, all, [&](const auto& c) { return c.second.learnt >= asked; });
+    for (size_t i = 0; i < servers_.size(); ++i) servers_[i]->sources->ForgetUnmatched(matched[i]);
+    const auto now = std::chrono::steady_clock::now();
+    for (auto it = budgets_.begin(); it != budgets_.end();) {
+      Budget& b = it->second;
+      const bool idle = now - b.heard >= std::chrono::seconds(1);
+      if (idle) Refill(b, now);
+      it = idle && b.tokens >= kBurst ? budgets_.erase(it) : std::next(it);
     }
   }
 
@@ -427,8 +465,9 @@ class RequestServer {
   std::deque<std::pair<std::chrono::steady_clock::time_point, Incoming>> parked_;
   std::mutex ids_mutex_;
   // Request writer -> its client id and the last sequence number taken from it.
-  std::map<dds_instance_handle_t, Client> clients_;  // by request writer
-  std::map<std::string, Budget> budgets_;            // by client (ClientOf)
+  std::map<dds_instance_handle_t, Client> clients_;      // by request writer
+  std::map<std::string, Budget> budgets_;                // by client (ClientOf)
+  std::chrono::steady_clock::time_point next_forget_{};  // the server's thread's
   double share_ = kMaxRequestsPerSecond;
   std::chrono::steady_clock::time_point share_counted_{};
   std::mutex warn_mutex_;
