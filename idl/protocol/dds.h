@@ -289,7 +289,6 @@ class WriterSources {
   void ForgetUnmatched(const std::vector<dds_instance_handle_t>& matched) {
     EraseUnmatched(known_, matched, [](const auto&) { return false; });
   }
-  size_t known() const { return known_.size(); }
 
  private:
   dds_entity_t reader_;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -119,6 +120,7 @@ class RequestServer {
       // A request that came before the listener was set raised no callback.
       s->Receive(*s->servers_.back());
     }
+    s->serving_.store(true, std::memory_order_release);  // servers_ is complete
     return s;
   }
 
@@ -385,7 +387,8 @@ class RequestServer {
         tick_();
         lock.lock();
       }
-      if (const auto now = std::chrono::steady_clock::now(); now >= next_forget_) {
+      if (const auto now = std::chrono::steady_clock::now();
+          serving_.load(std::memory_order_acquire) && now >= next_forget_) {
         next_forget_ = now + kForgetPeriod;
         lock.unlock();
         ForgetDeparted();
@@ -468,6 +471,7 @@ class RequestServer {
   std::map<dds_instance_handle_t, Client> clients_;      // by request writer
   std::map<std::string, Budget> budgets_;                // by client (ClientOf)
   std::chrono::steady_clock::time_point next_forget_{};  // the server's thread's
+  std::atomic<bool> serving_{false};  // Start is done: the server's thread may read servers_
   double share_ = kMaxRequestsPerSecond;
   std::chrono::steady_clock::time_point share_counted_{};
   std::mutex warn_mutex_;
