@@ -48,8 +48,8 @@ struct Ring {
 double AngleOfBin(int bin) { return -kPi + 2 * kPi * bin / kAngleBins; }
 
 // Which sample of a ring of `samples` each direction bin reads. A ring's sample count depends
-// on its radius only, so each table is built once per thread (the 360 directions times every
-// ring were a fifth of the check); a map, so that a table stays where it is as others are added.
+// on its radius only, so each table is built once per thread rather than 360 directions times
+// every ring each frame; a map, so that a table stays where it is as others are added.
 const std::array<int, kAngleBins>& SamplesOfBins(int samples) {
   thread_local std::map<int, std::array<int, kAngleBins>> tables;
   auto [at, added] = tables.try_emplace(samples);

@@ -38,8 +38,8 @@ std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const Corn
 std::array<double, 3> EdgeSigmaPx(const CameraIntrinsics& k, const CornerPrediction& prediction) {
   std::array<double, 3> sigma_px{};
   const CornerPose& pose = prediction.pose;
-  // A pose as its rotation and position, computed once: CornerToCamera per point recomputed
-  // the rotation's six sines and cosines (a twentieth of a tracked frame).
+  // A pose as its rotation and position, computed once: CornerToCamera would recompute the
+  // rotation's six sines and cosines for every point projected.
   struct Placed {
     Eigen::Matrix3d camera_from_corner;
     Eigen::Vector3d position_m;
