@@ -202,21 +202,25 @@ std::vector<EdgePointSample> MeasureEdgePoints(const cv::Mat& grey,
 
 namespace {
 
-// The patch of `width` x `height` samples at origin + c d + o n (column c along the edge,
-// row o across it), read bilinearly, row by row, into `patch_out`.
+// The patch of `columns.size()` x `height` samples at origin + c d + o n (c from `columns`,
+// along the edge; row o across it), read bilinearly, row by row, into `patch_out`. Only the
+// columns profiles read: profiles spaced wider than they are leave gaps.
 void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen::Vector2d& d,
-                 const Eigen::Vector2d& n, int width, int height, std::vector<float>* patch_out) {
+                 const Eigen::Vector2d& n, const std::vector<int>& columns, int height,
+                 std::vector<float>* patch_out) {
   // Sampled here, bilinearly, with the image's edge pixels repeated beyond it (positions
   // that close to the border are skipped below anyway). OpenCV's warpAffine did this before,
   // but on a float copy of the region, with its position rounded to 1/32 px, and at ~100
   // calls a frame its allocations cost more than the sampling.
   std::vector<float>& patch = *patch_out;
+  const int width = static_cast<int>(columns.size());
   patch.resize(static_cast<size_t>(width) * height);
   const int max_x0 = grey.cols - 2, max_y0 = grey.rows - 2;
-  const Eigen::Vector2d far_corner = origin + (width - 1) * d + (height - 1) * n;
+  const double last_column = columns.back();
+  const Eigen::Vector2d far_corner = origin + last_column * d + (height - 1) * n;
   Eigen::Vector2d lo = origin.cwiseMin(far_corner), hi = origin.cwiseMax(far_corner);
   for (const Eigen::Vector2d& c :
-       {Eigen::Vector2d(origin + (width - 1) * d), Eigen::Vector2d(origin + (height - 1) * n)}) {
+       {Eigen::Vector2d(origin + last_column * d), Eigen::Vector2d(origin + (height - 1) * n)}) {
     lo = lo.cwiseMin(c);
     hi = hi.cwiseMax(c);
   }
@@ -243,8 +247,8 @@ void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen
     const float y_start = static_cast<float>(row_origin.y());
     if (inside) {  // the patch is in the image: no clamping (x, y >= 0, so casts floor)
       for (int c = 0; c < width; ++c) {
-        const float x = x_start + static_cast<float>(c) * dx,
-                    y = y_start + static_cast<float>(c) * dy;
+        const float x = x_start + static_cast<float>(columns[c]) * dx,
+                    y = y_start + static_cast<float>(columns[c]) * dy;
         const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
         fx[c] = x - static_cast<float>(x0);
         fy[c] = y - static_cast<float>(y0);
@@ -252,8 +256,8 @@ void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen
       }
     } else {
       for (int c = 0; c < width; ++c) {
-        const float x = x_start + static_cast<float>(c) * dx,
-                    y = y_start + static_cast<float>(c) * dy;
+        const float x = x_start + static_cast<float>(columns[c]) * dx,
+                    y = y_start + static_cast<float>(columns[c]) * dy;
         const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, max_x0);
         const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, max_y0);
         fx[c] = std::clamp(x - static_cast<float>(x0), 0.0f, 1.0f);
@@ -296,20 +300,31 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
   const Eigen::Vector2d n(-d.y(), d.x());
   // Patch coordinates: column c along the edge, row o across it; image point =
   // origin + c d + o n.
-  const int width = (count - 1) * spacing_px + 2 * kAlong + 1, height = 2 * r + 1;
+  // The columns the profiles read, each once: profile i reads the span from i * spacing_px,
+  // which starts at first_column[i] of the patch.
+  constexpr int kSpan = 2 * kAlong + 1;
+  thread_local std::vector<int> columns, first_column;
+  columns.clear();
+  first_column.resize(count);
+  for (int i = 0; i < count; ++i) {
+    const int from = std::max(i * spacing_px, columns.empty() ? 0 : columns.back() + 1);
+    first_column[i] = static_cast<int>(columns.size()) - (from - i * spacing_px);
+    for (int c = from; c < i * spacing_px + kSpan; ++c) columns.push_back(c);
+  }
+  const int width = static_cast<int>(columns.size()), height = 2 * r + 1;
   const Eigen::Vector2d origin = start - kAlong * d - r * n;
   thread_local std::vector<float> patch;
-  SamplePatch(grey, origin, d, n, width, height, &patch);
+  SamplePatch(grey, origin, d, n, columns, height, &patch);
   std::vector<float> profile(height);
-  constexpr float kScale = 1.0f / (2 * kAlong + 1);
+  constexpr float kScale = 1.0f / kSpan;
   for (int i = 0; i < count; ++i) {
     const Eigen::Vector2d p = start + static_cast<double>(i * spacing_px) * d;
     if (!ProfileInside(grey, p, n, d, r)) continue;
-    const int c0 = i * spacing_px;
+    const int c0 = first_column[i];
     for (int o = 0; o < height; ++o) {
       const float* row = &patch[static_cast<size_t>(o) * width + c0];
       float sum = 0;
-      for (int a = 0; a < 2 * kAlong + 1; ++a) sum += row[a];
+      for (int a = 0; a < kSpan; ++a) sum += row[a];
       profile[o] = kScale * sum;
     }
     if (auto found = PeakOfProfile(kernel, profile.data(), r, search, half_width_px, polarity,
