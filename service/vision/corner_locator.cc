@@ -93,15 +93,21 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   Eigen::Vector2d dir = first->direction;
   if (dir.dot(first->centroid - corner_n) < 0) dir = -dir;
   const Eigen::Vector2d start = first->centroid + dir * dir.dot(corner_n - first->centroid);
-  std::vector<Eigen::Vector2d> positions, normals;
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<double> position_t;  // where each position lies along the line, normalized
   for (double t = 8.0 / focal; t < 4.0; t += spacing_px / focal) {
-    Eigen::Matrix2d j;
-    const Eigen::Vector2d px = NormalizedToPixel(k, start + t * dir, &j);
+    const Eigen::Vector2d px = NormalizedToPixel(k, start + t * dir);
     if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;
-    const Eigen::Vector2d along = (j * dir).normalized();
     positions.push_back(px);
-    normals.emplace_back(-along.y(), along.x());
+    position_t.push_back(t);
   }
+  // The line's direction in the image at one position (the lens bends it): only a stretch of
+  // one position needs it, the others take their chord's.
+  auto direction_px_at = [&](size_t i) {
+    Eigen::Matrix2d j;
+    NormalizedToPixel(k, start + position_t[i] * dir, &j);
+    return Eigen::Vector2d((j * dir).normalized());
+  };
   // Either sign, decided per 32 px stretch: the contrast may fade and turn along an edge.
   // A blurred edge is measured with a derivative of a Gaussian wider than its blur.
   const double derivative_sigma_px = wide_filter
@@ -112,9 +118,7 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
     const size_t end = std::min(positions.size(), begin + 16);
     // A 32 px stretch of the lens-bent line is straight to well under 0.1 px.
     const Eigen::Vector2d chord = positions[end - 1] - positions[begin];
-    const Eigen::Vector2d along = chord.norm() > 0
-                                      ? chord.normalized()
-                                      : Eigen::Vector2d(normals[begin].y(), -normals[begin].x());
+    const Eigen::Vector2d along = chord.norm() > 0 ? chord.normalized() : direction_px_at(begin);
     const int count = std::max(1, static_cast<int>(std::lround(chord.norm() / spacing_px)) + 1);
     const auto chunk = MajoritySign(MeasureEdgeStretch(
         grey, positions[begin], along, count, spacing_px, 2.5, 0, min_step, derivative_sigma_px));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,13 +29,30 @@ double VisibleLengthPx(const CameraIntrinsics& k, const CornerPose& pose, int ax
   // The axis in the camera frame: c + t * along (the rotation computed once, not per step).
   const Eigen::Vector3d c = CornerToCamera(pose, Eigen::Vector3d::Zero());
   const Eigen::Vector3d along = RotationCameraFromCorner(pose).col(axis);
-  for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.02) {
+  // The pixel of the point t along the axis, if it is in front of the camera and in the image.
+  auto visible_px = [&](double t) -> std::optional<Eigen::Vector2d> {
     const Eigen::Vector3d p = c + t * along;
-    if (p.z() <= 1e-3 * scale) break;
+    if (p.z() <= 1e-3 * scale) return std::nullopt;
     const Eigen::Vector2d px = NormalizedToPixel(k, p.head<2>() / p.z());
-    if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;
-    length = (px - corner_px).norm();
+    if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1)
+      return std::nullopt;
+    return px;
+  };
+  // Out along the axis in 2 % steps until it leaves the view; only the last visible step
+  // counts, so every 8th step is projected, then the steps of the last stretch one by one.
+  std::vector<double> steps;
+  for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.02) steps.push_back(t);
+  constexpr size_t kStride = 8;
+  size_t visible = 0;  // steps [0, visible) are known to be visible
+  while (visible + kStride <= steps.size() && visible_px(steps[visible + kStride - 1])) {
+    visible += kStride;
   }
+  for (size_t i = visible; i < steps.size(); ++i) {
+    const auto px = visible_px(steps[i]);
+    if (!px) break;
+    length = (*px - corner_px).norm();
+  }
+  if (length == 0 && visible > 0) length = (*visible_px(steps[visible - 1]) - corner_px).norm();
   return length;
 }
 
