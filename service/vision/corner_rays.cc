@@ -60,23 +60,34 @@ const std::array<int, kAngleBins>& SamplesOfBins(int samples) {
   return at->second;
 }
 
+// The unit directions of a ring of `samples` samples, counter-clockwise from angle 0: built
+// once per thread for each sample count (like SamplesOfBins), so that no sample's position
+// waits on the one before it.
+const std::vector<Eigen::Vector2d>& DirectionsOfSamples(int samples) {
+  thread_local std::map<int, std::vector<Eigen::Vector2d>> tables;
+  auto [at, added] = tables.try_emplace(samples);
+  if (added) {
+    for (int i = 0; i < samples; ++i) {
+      const double angle = 2 * kPi * i / samples;
+      at->second.emplace_back(std::cos(angle), std::sin(angle));
+    }
+  }
+  return at->second;
+}
+
 Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radius_px,
                  const RayProfileOptions& o) {
   Ring ring;
   ring.radius_px = radius_px;
   const int n = static_cast<int>(std::ceil(2 * kPi * radius_px));
   ring.samples = n;
-  // Grey levels along the ring, by bilinear interpolation; the direction turns by a fixed
-  // rotation from sample to sample (no sine or cosine per sample).
+  // Grey levels along the ring, by bilinear interpolation.
   std::vector<float> value(n);
   std::vector<uint8_t> ok(n, 0);
-  const double turn_c = std::cos(2 * kPi / n), turn_s = std::sin(2 * kPi / n);
-  double c = 1, s = 0;
+  const std::vector<Eigen::Vector2d>& direction = DirectionsOfSamples(n);
   for (int i = 0; i < n; ++i) {
-    const double x = centre.x() + radius_px * c, y = centre.y() + radius_px * s;
-    const double next_c = c * turn_c - s * turn_s;
-    s = s * turn_c + c * turn_s;
-    c = next_c;
+    const double x = centre.x() + radius_px * direction[i].x(),
+                 y = centre.y() + radius_px * direction[i].y();
     // Truncation is the floor for x, y >= 0; anything below 0 is skipped either way.
     if (!(x >= 0 && y >= 0)) continue;
     const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
