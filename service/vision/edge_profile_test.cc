@@ -8,6 +8,7 @@
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 #include <utility>
 
 #include "service/vision/edge_test_images.h"
@@ -199,23 +200,29 @@ TEST(EdgeProfileTest, AOneSidedShadingSlopeMovesThePeakAsPredicted) {
       << "rows off the image";
 }
 
+// Spaced closer than a profile is wide (its columns shared), and wider (columns between
+// profiles skipped): each profile must read its own pixels either way.
 TEST(EdgeProfileTest, StretchAndPointSamplersAgree) {
   const double angle = -0.4;
   const cv::Mat image = StepImage(180.6, angle, 30, 1.0, 1, 5);
   const Eigen::Vector2d normal(std::cos(angle), -std::sin(angle));
   const Eigen::Vector2d along(normal.y(), -normal.x());  // so that `normal` is its left normal
   const Eigen::Vector2d start = Eigen::Vector2d(181.5, 200) - 60 * along;
-  const auto stretch = MeasureEdgeStretch(image, start, along, 40, 3, 4, +1, 5);
-  std::vector<Eigen::Vector2d> positions, normals;
-  for (int i = 0; i < 40; ++i) {
-    positions.push_back(start + 3.0 * i * along);
-    normals.push_back(normal);
-  }
-  const auto points = MeasureEdgePoints(image, positions, normals, 4, +1, 5);
-  ASSERT_EQ(stretch.size(), points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    EXPECT_LT((stretch[i].point_px - points[i].point_px).norm(), 0.05);
-    EXPECT_NEAR(stretch[i].step_grey, points[i].step_grey, 0.5);
+  for (int spacing_px : {3, 8, 12}) {
+    SCOPED_TRACE("profiles " + std::to_string(spacing_px) + " px apart");
+    const int count = 120 / spacing_px;
+    const auto stretch = MeasureEdgeStretch(image, start, along, count, spacing_px, 4, +1, 5);
+    std::vector<Eigen::Vector2d> positions, normals;
+    for (int i = 0; i < count; ++i) {
+      positions.push_back(start + 1.0 * spacing_px * i * along);
+      normals.push_back(normal);
+    }
+    const auto points = MeasureEdgePoints(image, positions, normals, 4, +1, 5);
+    ASSERT_EQ(stretch.size(), points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+      EXPECT_LT((stretch[i].point_px - points[i].point_px).norm(), 0.01);
+      EXPECT_NEAR(stretch[i].step_grey, points[i].step_grey, 0.05);
+    }
   }
 }
 
