@@ -81,33 +81,45 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   ring.radius_px = radius_px;
   const int n = static_cast<int>(std::ceil(2 * kPi * radius_px));
   ring.samples = n;
+  // Most rings lie wholly in the image (a pixel to spare for the bilinear read): no sample
+  // or step window needs its own check.
+  const bool inside = centre.x() - radius_px - 1 >= 0 && centre.y() - radius_px - 1 >= 0 &&
+                      centre.x() + radius_px + 2 < grey.cols &&
+                      centre.y() + radius_px + 2 < grey.rows;
   // Grey levels along the ring, by bilinear interpolation.
   std::vector<float> value(n);
-  std::vector<uint8_t> ok(n, 0);
+  std::vector<uint8_t> ok(inside ? 0 : n, 0);  // (read only where the ring leaves the image)
   const std::vector<Eigen::Vector2d>& direction = DirectionsOfSamples(n);
-  for (int i = 0; i < n; ++i) {
-    const double x = centre.x() + radius_px * direction[i].x(),
-                 y = centre.y() + radius_px * direction[i].y();
-    // Truncation is the floor for x, y >= 0; anything below 0 is skipped either way.
-    if (!(x >= 0 && y >= 0)) continue;
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    if (x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) continue;
+  auto sample = [&](int i, int x0, int y0, double x, double y) {
     const double fx = x - x0, fy = y - y0;
     const uint8_t* r0 = grey.ptr<uint8_t>(y0) + x0;
     const uint8_t* r1 = grey.ptr<uint8_t>(y0 + 1) + x0;
     value[i] = static_cast<float>((1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) +
                                   fy * ((1 - fx) * r1[0] + fx * r1[1]));
+  };
+  for (int i = 0; i < n; ++i) {
+    const double x = centre.x() + radius_px * direction[i].x(),
+                 y = centre.y() + radius_px * direction[i].y();
+    if (inside) {
+      sample(i, static_cast<int>(x), static_cast<int>(y), x, y);
+      continue;
+    }
+    // Truncation is the floor for x, y >= 0; anything below 0 is skipped either way.
+    if (!(x >= 0 && y >= 0)) continue;
+    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    if (x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) continue;
+    sample(i, x0, y0, x, y);
     ok[i] = 1;
   }
   // Prefix sums over two turns, so that windows wrap round.
   std::vector<double> sum(2 * n + 1, 0);
-  std::vector<int> valid(2 * n + 1, 0);
+  std::vector<int> valid(inside ? 0 : 2 * n + 1, 0);
   // (Two loops, not one with i % n: that division was a good part of the check's time.)
   for (int turn = 0; turn < 2; ++turn) {
     for (int j = 0; j < n; ++j) {
       const int i = turn * n + j;
       sum[i + 1] = sum[i] + value[j];
-      valid[i + 1] = valid[i] + ok[j];
+      if (!inside) valid[i + 1] = valid[i] + ok[j];
     }
   }
   const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
@@ -119,7 +131,8 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
     // Counter-clockwise window [i + gap, i + gap + width), clockwise [i - gap - width + 1,
     // i - gap] shifted one turn on: both within the prefix sums' two turns, [0, 2n].
     const int ccw = i + gap, cw = i + n - gap - width + 1;
-    if (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width)
+    if (!inside &&
+        (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width))
       continue;
     ring.step[i] =
         static_cast<float>((sum[ccw + width] - sum[ccw] - sum[cw + width] + sum[cw]) / width);
