@@ -24,7 +24,6 @@ constexpr char kImprecisionPrefix[] = "position uncertain: ";
 // Length of an axis's image from the corner to where it leaves the image, pixels.
 double VisibleLengthPx(const CameraIntrinsics& k, const CornerPose& pose, int axis,
                        const Eigen::Vector2d& corner_px) {
-  double length = 0;
   const double scale = std::max(CameraPosition(pose).norm(), 0.1);
   // The axis in the camera frame: c + t * along (the rotation computed once, not per step).
   const Eigen::Vector3d c = CornerToCamera(pose, Eigen::Vector3d::Zero());
@@ -43,17 +42,20 @@ double VisibleLengthPx(const CameraIntrinsics& k, const CornerPose& pose, int ax
   std::vector<double> steps;
   for (double t = 1e-3 * scale; t < 100 * scale; t *= 1.02) steps.push_back(t);
   constexpr size_t kStride = 8;
-  size_t visible = 0;  // steps [0, visible) are known to be visible
-  while (visible + kStride <= steps.size() && visible_px(steps[visible + kStride - 1])) {
+  size_t visible = 0;                   // steps [0, visible) are known to be visible
+  std::optional<Eigen::Vector2d> last;  // the last visible step's pixel
+  while (visible + kStride <= steps.size()) {
+    const auto px = visible_px(steps[visible + kStride - 1]);
+    if (!px) break;
+    last = px;
     visible += kStride;
   }
   for (size_t i = visible; i < steps.size(); ++i) {
     const auto px = visible_px(steps[i]);
     if (!px) break;
-    length = (*px - corner_px).norm();
+    last = px;
   }
-  if (length == 0 && visible > 0) length = (*visible_px(steps[visible - 1]) - corner_px).norm();
-  return length;
+  return last ? (*last - corner_px).norm() : 0.0;
 }
 
 std::string Format(const char* format, double a, double b = 0) {
