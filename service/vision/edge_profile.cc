@@ -255,13 +255,17 @@ void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen
         offset[c] = y0 * static_cast<int32_t>(stride) + x0;
       }
     } else {
+      // Clamped into [0, max + 1] first, a position truncates to its floor: the same pixel
+      // and weight as clamping floor(x) and then the weight, without a floor call per sample
+      // (x86-64's baseline has no rounding instruction).
+      const float x_end = static_cast<float>(max_x0 + 1), y_end = static_cast<float>(max_y0 + 1);
       for (int c = 0; c < width; ++c) {
-        const float x = x_start + static_cast<float>(columns[c]) * dx,
-                    y = y_start + static_cast<float>(columns[c]) * dy;
-        const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, max_x0);
-        const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, max_y0);
-        fx[c] = std::clamp(x - static_cast<float>(x0), 0.0f, 1.0f);
-        fy[c] = std::clamp(y - static_cast<float>(y0), 0.0f, 1.0f);
+        const float x = std::clamp(x_start + static_cast<float>(columns[c]) * dx, 0.0f, x_end),
+                    y = std::clamp(y_start + static_cast<float>(columns[c]) * dy, 0.0f, y_end);
+        const int x0 = std::min(static_cast<int>(x), max_x0);
+        const int y0 = std::min(static_cast<int>(y), max_y0);
+        fx[c] = std::min(x - static_cast<float>(x0), 1.0f);
+        fy[c] = std::min(y - static_cast<float>(y0), 1.0f);
         offset[c] = y0 * static_cast<int32_t>(stride) + x0;
       }
     }

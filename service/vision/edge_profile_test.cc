@@ -226,6 +226,31 @@ TEST(EdgeProfileTest, StretchAndPointSamplersAgree) {
   }
 }
 
+// A stretch that starts outside the image and leaves it again (an edge running off the frame,
+// as most of a Y's edges do): its patch is sampled with the border's pixels repeated, and the
+// points it gives are still the per-point sampler's, up to a few pixels from each border.
+TEST(EdgeProfileTest, AStretchAcrossTheBordersAgreesWithThePointSampler) {
+  for (double angle : {-0.4, 1.2}) {  // leaving by the top and bottom, by the left and right
+    SCOPED_TRACE("edge at " + std::to_string(angle) + " rad");
+    const cv::Mat image = StepImage(180.6, angle, 30, 1.0, 1, 7);
+    const Eigen::Vector2d normal(std::cos(angle), -std::sin(angle));
+    const Eigen::Vector2d along(normal.y(), -normal.x());
+    const Eigen::Vector2d start = Eigen::Vector2d(181.5, 200) - 300 * along;
+    const int spacing_px = 3, count = 600 / spacing_px;
+    const auto stretch = MeasureEdgeStretch(image, start, along, count, spacing_px, 4, +1, 5);
+    std::vector<Eigen::Vector2d> positions, normals;
+    for (int i = 0; i < count; ++i) {
+      positions.push_back(start + 1.0 * spacing_px * i * along);
+      normals.push_back(normal);
+    }
+    const auto points = MeasureEdgePoints(image, positions, normals, 4, +1, 5);
+    ASSERT_GT(points.size(), 100u);  // the edge crosses the 400 px image
+    ASSERT_EQ(stretch.size(), points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+      EXPECT_LT((stretch[i].point_px - points[i].point_px).norm(), 0.01);
+  }
+}
+
 // A point must not depend on where along the normal its profile was sampled: the locator
 // samples along a first fit that is off the edge by a few hundredths of a pixel, differently
 // at each end. A noiseless blurred step is measured from lines shifted across it by 0 to
