@@ -83,17 +83,17 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
                                           const std::array<int, 3>& axis_of_line, double focal_px,
                                           double point_sigma_px, double line_bias_px) {
   const double zc = initial.z_m;
-  auto residuals = [&](const Eigen::VectorXd& q, Eigen::VectorXd* r) {
+  auto residuals = [&](const Eigen::Matrix<double, 5, 1>& q, Eigen::Matrix<double, 6, 1>* r) {
     const auto line_residuals = CornerLineResiduals(CornerPose{q[0], q[1], zc, q[2], q[3], q[4]},
                                                     lines, axis_of_line, focal_px, point_sigma_px);
     if (!line_residuals) return false;
     *r = *line_residuals;
     return true;
   };
-  Eigen::VectorXd q(5);
+  Eigen::Matrix<double, 5, 1> q;
   q << initial.x_m, initial.y_m, initial.pan_rad, initial.tilt_rad, initial.swing_rad;
-  const auto summary = MinimizeLevenbergMarquardt(residuals, 6, &q);
-  if (summary.residuals.size() != 6 || summary.jacobian.rows() != 6) {
+  const auto summary = MinimizeLevenbergMarquardtOf<6, 5>(residuals, 6, &q);
+  if (!summary.started || !summary.has_jacobian) {
     return MakeError(ErrorCode::kDegenerate, "the corner pose refinement failed");
   }
   const Eigen::Matrix<double, 5, 5> jtj = summary.jacobian.transpose() * summary.jacobian;

@@ -2,7 +2,10 @@
 // Pure geometry: Eigen only.
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <functional>
 
 namespace monocle {
@@ -19,23 +22,107 @@ struct LevenbergMarquardtOptions {
   double initial_lambda = 1e-3;
 };
 
-struct LevenbergMarquardtSummary {
+// M residuals, N parameters: fixed sizes (a hot fit of a known shape, no allocation) or
+// Eigen::Dynamic.
+template <int M, int N>
+struct LevenbergMarquardtSummaryOf {
+  bool started = false;  // the residuals were defined at the start
   bool converged = false;
   int iterations = 0;
   double initial_cost = 0;  // 0.5 * |r|^2
   double final_cost = 0;
-  Eigen::MatrixXd jacobian;   // at the solution, numeric (central differences)
-  Eigen::VectorXd residuals;  // at the solution
+  Eigen::Matrix<double, M, N> jacobian;  // at the solution, numeric (central differences)
+  Eigen::Matrix<double, M, 1>
+      residuals;              // at the solution (empty if not started, at run-time sizes)
+  bool has_jacobian = false;  // the Jacobian was defined at the solution
 };
+using LevenbergMarquardtSummary = LevenbergMarquardtSummaryOf<Eigen::Dynamic, Eigen::Dynamic>;
 
-// Minimises 0.5 * |r(x)|^2 starting from *x (updated in place). Numeric Jacobian by
-// central differences with a step relative to each parameter's scale.
+// d(residuals)/dx at x (m residuals) by central differences, the solver's own; false where
+// the model is undefined at a step. `f(x, &r)` as ResidualFunction, at the sizes M, N.
+template <int M, int N, typename Residuals>
+bool NumericJacobianOf(const Residuals& f, const Eigen::Matrix<double, N, 1>& x, int m,
+                       Eigen::Matrix<double, M, N>* jacobian) {
+  const auto n = x.size();
+  jacobian->resize(m, n);
+  Eigen::Matrix<double, M, 1> plus, minus;
+  plus.resize(m);
+  minus.resize(m);
+  Eigen::Matrix<double, N, 1> xp = x, xm = x;  // (allocated once, not per column)
+  for (Eigen::Index j = 0; j < n; ++j) {
+    // Central differences: error O(step^2) ~ 1e-11 relative, enough for 1e-9 round trips.
+    const double step = 1e-6 * std::max(1.0, std::abs(x[j]));
+    xp[j] = x[j] + step;
+    xm[j] = x[j] - step;
+    if (!f(xp, &plus) || !f(xm, &minus)) return false;
+    jacobian->col(j) = (plus - minus) / (2 * step);
+    xp[j] = xm[j] = x[j];
+  }
+  return true;
+}
+
+// Minimises 0.5 * |r(x)|^2 starting from *x (updated in place), m residuals. Numeric
+// Jacobian by central differences with a step relative to each parameter's scale.
+template <int M, int N, typename Residuals>
+LevenbergMarquardtSummaryOf<M, N> MinimizeLevenbergMarquardtOf(
+    const Residuals& f, int m, Eigen::Matrix<double, N, 1>* x,
+    const LevenbergMarquardtOptions& options = {}) {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  using Square = Eigen::Matrix<double, N, N>;
+  LevenbergMarquardtSummaryOf<M, N> summary;
+  Eigen::Matrix<double, M, 1> r, candidate_r;
+  r.resize(m);
+  candidate_r.resize(m);
+  if (!f(*x, &r)) return summary;
+  summary.started = true;
+  double cost = 0.5 * r.squaredNorm();
+  summary.initial_cost = cost;
+  double lambda = options.initial_lambda;
+  Eigen::Matrix<double, M, N> j;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    summary.iterations = it + 1;
+    if (!NumericJacobianOf<M, N>(f, *x, m, &j)) break;
+    const Square jtj = j.transpose() * j;
+    const Vector gradient = j.transpose() * r;
+    bool improved = false;
+    for (int attempt = 0; attempt < 20 && !improved; ++attempt) {
+      Square damped = jtj;
+      damped.diagonal() += lambda * jtj.diagonal().cwiseMax(1e-12);
+      const Vector dx = damped.ldlt().solve(-gradient);
+      // A step below the parameters' rounding cannot lower the cost: at the minimum (the
+      // damping that grows with each rejected step only shrinks it further).
+      if (dx.norm() < options.step_tolerance * (x->norm() + options.step_tolerance)) break;
+      const Vector candidate = *x + dx;
+      if (f(candidate, &candidate_r) && 0.5 * candidate_r.squaredNorm() < cost) {
+        const double new_cost = 0.5 * candidate_r.squaredNorm();
+        const double improvement = (cost - new_cost) / std::max(cost, 1e-300);
+        const bool small_step =
+            dx.norm() < options.step_tolerance * (x->norm() + options.step_tolerance);
+        *x = candidate;
+        r = candidate_r;
+        cost = new_cost;
+        lambda = std::max(lambda / 10, 1e-12);
+        improved = true;
+        if (improvement < options.relative_cost_tolerance || small_step) summary.converged = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    // No step improves the cost: we are at the minimum to machine precision.
+    if (!improved) summary.converged = true;
+    if (summary.converged) break;
+  }
+  summary.final_cost = cost;
+  summary.residuals = r;
+  summary.has_jacobian = NumericJacobianOf<M, N>(f, *x, m, &summary.jacobian);
+  return summary;
+}
+
+// The same at run-time sizes, for a std::function.
 LevenbergMarquardtSummary MinimizeLevenbergMarquardt(const ResidualFunction& f, int num_residuals,
                                                      Eigen::VectorXd* x,
                                                      const LevenbergMarquardtOptions& options = {});
 
-// d(residuals)/dx at x (m residuals) by central differences, the solver's own; false where
-// the model is undefined at a step.
 bool NumericJacobian(const ResidualFunction& f, const Eigen::VectorXd& x, int num_residuals,
                      Eigen::MatrixXd* jacobian);
 
