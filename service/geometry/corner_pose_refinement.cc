@@ -92,7 +92,8 @@ Result<CornerRefinement> RefineCornerPose(const CornerPose& initial,
   };
   Eigen::Matrix<double, 5, 1> q;
   q << initial.x_m, initial.y_m, initial.pan_rad, initial.tilt_rad, initial.swing_rad;
-  const auto summary = MinimizeLevenbergMarquardtOf<6, 5>(residuals, 6, &q);
+  const auto summary = MinimizeLevenbergMarquardtOf<6, 5>(
+      residuals, 6, &q, {.forward_differences_while_iterating = true});
   if (!summary.started || !summary.has_jacobian) {
     return MakeError(ErrorCode::kDegenerate, "the corner pose refinement failed");
   }

@@ -4,6 +4,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <utility>
 
 namespace monocle {
 namespace {
@@ -96,6 +97,27 @@ TEST(LevenbergMarquardtTest, StopsAtTheMinimumWithoutTryingStepsBelowRounding) {
   // trial steps: about two an iteration.
   const int trial_steps = evaluations - 1 - 4 * (summary.iterations + 1);
   EXPECT_LE(trial_steps, 2 * summary.iterations + 4) << summary.iterations << " iterations";
+}
+
+// Forward differences while iterating reach the same minimum with fewer evaluations, and the
+// Jacobian returned is still the central one.
+TEST(LevenbergMarquardtTest, ForwardDifferencesWhileIteratingReachTheSameMinimum) {
+  int evaluations = 0;
+  auto decay = [&](const Eigen::Vector2d& p, Eigen::Matrix<double, 6, 1>* r) {
+    ++evaluations;
+    for (int i = 0; i < 6; ++i)
+      (*r)[i] = p[0] * std::exp(-p[1] * i) - (5 * std::exp(-0.3 * i) + 0.02 * (i % 3 - 1));
+    return true;
+  };
+  Eigen::Vector2d central(3, 0.1), forward = central;
+  const auto central_summary = MinimizeLevenbergMarquardtOf<6, 2>(decay, 6, &central);
+  const int central_evaluations = std::exchange(evaluations, 0);
+  const auto forward_summary = MinimizeLevenbergMarquardtOf<6, 2>(
+      decay, 6, &forward, {.forward_differences_while_iterating = true});
+  EXPECT_TRUE(forward_summary.converged);
+  EXPECT_LT((forward - central).norm(), 1e-9);
+  EXPECT_LT(evaluations, central_evaluations);
+  EXPECT_LT((forward_summary.jacobian - central_summary.jacobian).norm(), 1e-8);
 }
 
 }  // namespace
