@@ -95,6 +95,10 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
   const Eigen::Vector2d start = first->centroid + dir * dir.dot(corner_n - first->centroid);
   std::vector<Eigen::Vector2d> positions;
   std::vector<double> position_t;  // where each position lies along the line, normalized
+  const size_t most_positions =
+      static_cast<size_t>(std::hypot(k.width_px, k.height_px) / spacing_px) + 2;
+  positions.reserve(most_positions);
+  position_t.reserve(most_positions);
   for (double t = 8.0 / focal; t < 4.0; t += spacing_px / focal) {
     const Eigen::Vector2d px = NormalizedToPixel(k, start + t * dir);
     if (px.x() < 0 || px.y() < 0 || px.x() > k.width_px - 1 || px.y() > k.height_px - 1) break;
@@ -114,6 +118,7 @@ std::optional<LineFit> FitEdge(const cv::Mat& grey, const CameraIntrinsics& k, i
                                          ? WeakViewEdgeDerivativeSigmaPx(edges->blur_sigma_px[m])
                                          : EdgeDerivativeSigmaPx(edges->blur_sigma_px[m]);
   std::vector<EdgePointSample> second;
+  second.reserve(positions.size());
   for (size_t begin = 0; begin < positions.size(); begin += 16) {
     const size_t end = std::min(positions.size(), begin + 16);
     // A 32 px stretch of the lens-bent line is straight to well under 0.1 px.

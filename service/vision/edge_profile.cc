@@ -319,7 +319,9 @@ std::vector<EdgePointSample> MeasureEdgeStretch(const cv::Mat& grey, const Eigen
   const Eigen::Vector2d origin = start - kAlong * d - r * n;
   thread_local std::vector<float> patch;
   SamplePatch(grey, origin, d, n, columns, height, &patch);
-  std::vector<float> profile(height);
+  thread_local std::vector<float> profile;
+  profile.resize(height);
+  out.reserve(count);  // (growing it a point at a time reallocated it five times a stretch)
   constexpr float kScale = 1.0f / kSpan;
   for (int i = 0; i < count; ++i) {
     const Eigen::Vector2d p = start + static_cast<double>(i * spacing_px) * d;
