@@ -77,17 +77,23 @@ TEST(LevenbergMarquardtTest, FixedSizesSolveAsRunTimeSizes) {
   EXPECT_LT((fixed_summary.jacobian - dynamic_summary.jacobian).norm(), 1e-9);
 }
 
+// An exponential decay fitted to six noisy samples (amplitude 5, rate 0.3), counting the
+// residual evaluations in `evaluations`.
+auto DecayResiduals(int* evaluations) {
+  return [evaluations](const Eigen::Vector2d& p, Eigen::Matrix<double, 6, 1>* r) {
+    ++*evaluations;
+    for (int i = 0; i < 6; ++i)
+      (*r)[i] = p[0] * std::exp(-p[1] * i) - (5 * std::exp(-0.3 * i) + 0.02 * (i % 3 - 1));
+    return true;
+  };
+}
+
 // At the minimum, where no step can lower the cost any more, the solver stops once the damped
 // step falls below the parameters' rounding, instead of trying ever more damped steps, up to
 // 20, each a residual evaluation. (Without that stop this fit takes 33 trial steps.)
 TEST(LevenbergMarquardtTest, StopsAtTheMinimumWithoutTryingStepsBelowRounding) {
   int evaluations = 0;
-  auto decay = [&](const Eigen::Vector2d& p, Eigen::Matrix<double, 6, 1>* r) {
-    ++evaluations;
-    for (int i = 0; i < 6; ++i)
-      (*r)[i] = p[0] * std::exp(-p[1] * i) - (5 * std::exp(-0.3 * i) + 0.02 * (i % 3 - 1));
-    return true;
-  };
+  const auto decay = DecayResiduals(&evaluations);
   Eigen::Vector2d x(3, 0.1);
   const auto summary = MinimizeLevenbergMarquardtOf<6, 2>(decay, 6, &x);
   EXPECT_TRUE(summary.converged);
@@ -103,12 +109,7 @@ TEST(LevenbergMarquardtTest, StopsAtTheMinimumWithoutTryingStepsBelowRounding) {
 // Jacobian returned is still the central one.
 TEST(LevenbergMarquardtTest, ForwardDifferencesWhileIteratingReachTheSameMinimum) {
   int evaluations = 0;
-  auto decay = [&](const Eigen::Vector2d& p, Eigen::Matrix<double, 6, 1>* r) {
-    ++evaluations;
-    for (int i = 0; i < 6; ++i)
-      (*r)[i] = p[0] * std::exp(-p[1] * i) - (5 * std::exp(-0.3 * i) + 0.02 * (i % 3 - 1));
-    return true;
-  };
+  const auto decay = DecayResiduals(&evaluations);
   Eigen::Vector2d central(3, 0.1), forward = central;
   const auto central_summary = MinimizeLevenbergMarquardtOf<6, 2>(decay, 6, &central);
   const int central_evaluations = std::exchange(evaluations, 0);

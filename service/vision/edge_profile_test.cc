@@ -200,6 +200,20 @@ TEST(EdgeProfileTest, AOneSidedShadingSlopeMovesThePeakAsPredicted) {
       << "rows off the image";
 }
 
+// What MeasureEdgePoints finds, a point at a time, at the places MeasureEdgeStretch(image,
+// start, along, count, spacing_px, 4, +1, 5) measures: `count` positions `spacing_px` apart,
+// each across the left normal of `along`.
+std::vector<EdgePointSample> PointSamplerAlong(const cv::Mat& image, const Eigen::Vector2d& start,
+                                               const Eigen::Vector2d& along, int count,
+                                               int spacing_px) {
+  std::vector<Eigen::Vector2d> positions, normals;
+  for (int i = 0; i < count; ++i) {
+    positions.push_back(start + 1.0 * spacing_px * i * along);
+    normals.emplace_back(-along.y(), along.x());
+  }
+  return MeasureEdgePoints(image, positions, normals, 4, +1, 5);
+}
+
 // Spaced closer than a profile is wide (its columns shared), and wider (columns between
 // profiles skipped): each profile must read its own pixels either way.
 TEST(EdgeProfileTest, StretchAndPointSamplersAgree) {
@@ -212,12 +226,7 @@ TEST(EdgeProfileTest, StretchAndPointSamplersAgree) {
     SCOPED_TRACE("profiles " + std::to_string(spacing_px) + " px apart");
     const int count = 120 / spacing_px;
     const auto stretch = MeasureEdgeStretch(image, start, along, count, spacing_px, 4, +1, 5);
-    std::vector<Eigen::Vector2d> positions, normals;
-    for (int i = 0; i < count; ++i) {
-      positions.push_back(start + 1.0 * spacing_px * i * along);
-      normals.push_back(normal);
-    }
-    const auto points = MeasureEdgePoints(image, positions, normals, 4, +1, 5);
+    const auto points = PointSamplerAlong(image, start, along, count, spacing_px);
     ASSERT_EQ(stretch.size(), points.size());
     for (size_t i = 0; i < points.size(); ++i) {
       EXPECT_LT((stretch[i].point_px - points[i].point_px).norm(), 0.01);
@@ -238,12 +247,7 @@ TEST(EdgeProfileTest, AStretchAcrossTheBordersAgreesWithThePointSampler) {
     const Eigen::Vector2d start = Eigen::Vector2d(181.5, 200) - 300 * along;
     const int spacing_px = 3, count = 600 / spacing_px;
     const auto stretch = MeasureEdgeStretch(image, start, along, count, spacing_px, 4, +1, 5);
-    std::vector<Eigen::Vector2d> positions, normals;
-    for (int i = 0; i < count; ++i) {
-      positions.push_back(start + 1.0 * spacing_px * i * along);
-      normals.push_back(normal);
-    }
-    const auto points = MeasureEdgePoints(image, positions, normals, 4, +1, 5);
+    const auto points = PointSamplerAlong(image, start, along, count, spacing_px);
     ASSERT_GT(points.size(), 100u);  // the edge crosses the 400 px image
     ASSERT_EQ(stretch.size(), points.size());
     for (size_t i = 0; i < points.size(); ++i)

@@ -16,7 +16,10 @@ fail() { echo "compose_config_test: FAIL: $*" >&2; exit 1; }
 docker-compose -p monocle -f "$src/docker/compose.yaml" config -q ||
   fail "docker-compose $(docker-compose version --short) refuses docker/compose.yaml"
 # The context and Dockerfile it names are found from the file's own directory.
-docker-compose -p monocle -f "$src/docker/compose.yaml" config | grep -q "dockerfile: docker/Dockerfile" ||
+# Read whole before grep -q looks: grep stops at its first match, and with pipefail the
+# SIGPIPE that then meets docker-compose, still writing, failed this step at random.
+resolved=$(docker-compose -p monocle -f "$src/docker/compose.yaml" config)
+grep -q "dockerfile: docker/Dockerfile" <<<"$resolved" ||
   fail "the build's dockerfile is not docker/Dockerfile"
 mkdir "$work/docker"
 { echo "name: monocle"; cat "$src/docker/compose.yaml"; } >"$work/docker/compose.yaml"
