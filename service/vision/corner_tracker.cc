@@ -17,15 +17,16 @@ std::vector<Eigen::Vector2d> PredictEdgePx(const CameraIntrinsics& k, const Corn
   double travelled = 0, next = 8;  // first sample 8 px off the corner, where edges separate
   // The axis in the camera frame: c + t * along (the rotation computed once, not per step).
   const Eigen::Vector3d along = RotationCameraFromCorner(pose).col(axis);
-  // 2 % steps: the chord between two projected points is straight to far under a pixel.
-  // Within a few pixels of the corner the image of the axis is straight: one chord to about
-  // 4 px off it measures that arc as well as the hundred-odd 2 % steps there would.
+  // Steps of 2 % of the distance from the corner, but at least 2 px: the chord between two
+  // projected points is straight to far under a pixel either way (2 % steps near the corner
+  // were a tenth of a pixel, and half of all steps). Within a few pixels of the corner the image
+  // of the axis is straight: one chord to about 4 px off it.
   double t_start = 1e-3 * scale;
   if (const Eigen::Vector3d p = c + t_start * along; p.z() > 1e-3 * scale) {
     const double off_px = (NormalizedToPixel(k, p.head<2>() / p.z()) - corner_px).norm();
     if (off_px > 0 && off_px < 4) t_start *= 4 / off_px;
   }
-  for (double t = t_start; t < 100 * scale; t *= 1.02) {
+  for (double t = t_start; t < 100 * scale; t *= 1 + std::max(0.02, 2 / std::max(travelled, 4.0))) {
     const Eigen::Vector3d p = c + t * along;
     if (p.z() <= 1e-3 * scale) break;
     const Eigen::Vector2d px = NormalizedToPixel(k, p.head<2>() / p.z());
