@@ -255,6 +255,28 @@ TEST(EdgeProfileTest, AStretchAcrossTheBordersAgreesWithThePointSampler) {
   }
 }
 
+// A frame of 16 MB and more (a pixel's offset no longer exact in float): its pixels are read
+// where they are, as in a small frame. The 400 px step image is set into a 4200 x 4400 frame
+// at (3600, 4000), where offsets pass 2^24 bytes.
+TEST(EdgeProfileTest, ALargeFrameIsReadWhereItsPixelsAre) {
+  const double angle = -0.4;
+  const cv::Mat small = StepImage(180.6, angle, 30, 1.0, 1, 9);
+  cv::Mat large(4400, 4200, CV_8UC1, cv::Scalar(135));
+  ASSERT_GT(static_cast<double>(large.rows) * large.step[0], 1 << 24);
+  const cv::Point2i at(3600, 4000);
+  small.copyTo(large(cv::Rect(at, small.size())));
+  const Eigen::Vector2d normal(std::cos(angle), -std::sin(angle));
+  const Eigen::Vector2d along(normal.y(), -normal.x());
+  const Eigen::Vector2d start = Eigen::Vector2d(181.5, 200) - 60 * along;
+  const Eigen::Vector2d shift(at.x, at.y);
+  const auto in_small = MeasureEdgeStretch(small, start, along, 30, 4, 4, +1, 5);
+  const auto in_large = MeasureEdgeStretch(large, start + shift, along, 30, 4, 4, +1, 5);
+  ASSERT_EQ(in_small.size(), 30u);
+  ASSERT_EQ(in_large.size(), in_small.size());
+  for (size_t i = 0; i < in_small.size(); ++i)
+    EXPECT_LT((in_large[i].point_px - shift - in_small[i].point_px).norm(), 1e-3);
+}
+
 // A point must not depend on where along the normal its profile was sampled: the locator
 // samples along a first fit that is off the edge by a few hundredths of a pixel, differently
 // at each end. A noiseless blurred step is measured from lines shifted across it by 0 to
