@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <vector>
+
+#include "service/vision/ring_samples.h"
 
 namespace monocle {
 namespace {
@@ -21,13 +24,13 @@ constexpr int kMaxRings = 64;
 struct Ring {
   double radius_px = 0;
   int samples = 0;
-  std::vector<float> step;
-  std::vector<uint8_t> step_valid;
+  std::unique_ptr<float[]> step;
+  std::unique_ptr<uint8_t[]> step_valid;  // null: every step valid (a ring inside the image)
 
   // The step at image angle `angle`; false where a window left the image.
   bool StepAt(double angle, double* out) const { return StepAtSample(SampleAt(angle), out); }
   bool StepAtSample(int i, double* out) const {
-    if (!step_valid[i]) return false;
+    if (step_valid && !step_valid[i]) return false;
     *out = step[i];
     return true;
   }
@@ -60,59 +63,28 @@ const std::array<int, kAngleBins>& SamplesOfBins(int samples) {
   return at->second;
 }
 
-// The unit directions of a ring of `samples` samples, counter-clockwise from angle 0: built
-// once per thread for each sample count (like SamplesOfBins), so that no sample's position
-// waits on the one before it.
-const std::vector<Eigen::Vector2d>& DirectionsOfSamples(int samples) {
-  thread_local std::map<int, std::vector<Eigen::Vector2d>> tables;
-  auto [at, added] = tables.try_emplace(samples);
-  if (added) {
-    for (int i = 0; i < samples; ++i) {
-      const double angle = 2 * kPi * i / samples;
-      at->second.emplace_back(std::cos(angle), std::sin(angle));
-    }
-  }
-  return at->second;
-}
-
 Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radius_px,
                  const RayProfileOptions& o) {
   Ring ring;
   ring.radius_px = radius_px;
   const int n = static_cast<int>(std::ceil(2 * kPi * radius_px));
   ring.samples = n;
-  // Most rings lie wholly in the image (a pixel to spare for the bilinear read): no sample
-  // or step window needs its own check.
-  const bool inside = centre.x() - radius_px - 1 >= 0 && centre.y() - radius_px - 1 >= 0 &&
-                      centre.x() + radius_px + 2 < grey.cols &&
-                      centre.y() + radius_px + 2 < grey.rows;
-  // Grey levels along the ring, by bilinear interpolation.
-  std::vector<float> value(n);
-  std::vector<uint8_t> ok(inside ? 0 : n, 0);  // (read only where the ring leaves the image)
-  const std::vector<Eigen::Vector2d>& direction = DirectionsOfSamples(n);
-  auto sample = [&](int i, int x0, int y0, double x, double y) {
-    const double fx = x - x0, fy = y - y0;
-    const uint8_t* r0 = grey.ptr<uint8_t>(y0) + x0;
-    const uint8_t* r1 = grey.ptr<uint8_t>(y0 + 1) + x0;
-    value[i] = static_cast<float>((1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) +
-                                  fy * ((1 - fx) * r1[0] + fx * r1[1]));
-  };
-  for (int i = 0; i < n; ++i) {
-    const double x = centre.x() + radius_px * direction[i].x(),
-                 y = centre.y() + radius_px * direction[i].y();
-    if (inside) {
-      sample(i, static_cast<int>(x), static_cast<int>(y), x, y);
-      continue;
-    }
-    // Truncation is the floor for x, y >= 0; anything below 0 is skipped either way.
-    if (!(x >= 0 && y >= 0)) continue;
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    if (x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) continue;
-    sample(i, x0, y0, x, y);
-    ok[i] = 1;
+  // Most rings lie wholly in the image: no sample or step window needs its own check.
+  const bool inside = RingInsideImage(grey, centre, radius_px);
+  // Grey levels along the ring, in scratch grown, never shrunk (zeroing it anew for each ring
+  // was a tenth of the check's time).
+  thread_local std::vector<float> value_scratch;
+  thread_local std::vector<double> sum_scratch;
+  if (value_scratch.size() < static_cast<size_t>(n)) {
+    value_scratch.resize(n);
+    sum_scratch.resize(2 * n + 1);
   }
+  float* value = value_scratch.data();
+  std::vector<uint8_t> ok(inside ? 0 : n, 0);  // (read only where the ring leaves the image)
+  SampleRing(grey, centre, radius_px, n, value, inside ? nullptr : ok.data());
   // Prefix sums over two turns, so that windows wrap round.
-  std::vector<double> sum(2 * n + 1, 0);
+  double* sum = sum_scratch.data();
+  sum[0] = 0;
   std::vector<int> valid(inside ? 0 : 2 * n + 1, 0);
   // (Two loops, not one with i % n: that division was a good part of the check's time.)
   for (int turn = 0; turn < 2; ++turn) {
@@ -125,18 +97,20 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
   const int gap = static_cast<int>(std::ceil(o.step_gap_px / per_sample));
   const int width = std::max(1, static_cast<int>(std::lround(o.step_width_px / per_sample)));
-  ring.step.assign(n, 0);
-  ring.step_valid.assign(n, 0);
+  ring.step = std::make_unique_for_overwrite<float[]>(n);
+  if (!inside) ring.step_valid = std::make_unique<uint8_t[]>(n);  // zeros
   for (int i = 0; i < n; ++i) {
     // Counter-clockwise window [i + gap, i + gap + width), clockwise [i - gap - width + 1,
     // i - gap] shifted one turn on: both within the prefix sums' two turns, [0, 2n].
     const int ccw = i + gap, cw = i + n - gap - width + 1;
     if (!inside &&
-        (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width))
+        (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width)) {
+      ring.step[i] = 0;
       continue;
+    }
     ring.step[i] =
         static_cast<float>((sum[ccw + width] - sum[ccw] - sum[cw + width] + sum[cw]) / width);
-    ring.step_valid[i] = 1;
+    if (!inside) ring.step_valid[i] = 1;
   }
   return ring;
 }
