@@ -5,6 +5,8 @@
 #include <numbers>
 #include <vector>
 
+#include "service/vision/pixel_pairs.h"
+
 namespace monocle {
 namespace {
 
@@ -27,9 +29,8 @@ const RingDirections& DirectionsOfSamples(int samples) {
   return at->second;
 }
 
-// A ring wholly inside the image, read in float in three simple loops (positions, the four
-// neighbours' grey levels, the blend), as MeasureEdgeStretch reads its patches: the first and
-// last vectorize.
+// A ring wholly inside the image, read in float in three simple loops (positions, then
+// pixel_pairs.h's gather and blend), as MeasureEdgeStretch reads its patches.
 void SampleRingInside(const cv::Mat& grey, const Eigen::Vector2d& centre, double radius_px,
                       const RingDirections& direction, float* value) {
   const int n = static_cast<int>(direction.x.size());
@@ -52,22 +53,8 @@ void SampleRingInside(const cv::Mat& grey, const Eigen::Vector2d& centre, double
     fy[i] = y - static_cast<float>(y0);
     offset[i] = y0 * stride + x0;
   }
-  const uint8_t* data = grey.data;
-  for (int i = 0; i < n; ++i) {
-    const uint8_t* r0 = data + offset[i];
-    const uint8_t* r1 = r0 + stride;
-    top_pair[i] = static_cast<uint16_t>(r0[0] | r0[1] << 8);
-    bottom_pair[i] = static_cast<uint16_t>(r1[0] | r1[1] << 8);
-  }
-  for (int i = 0; i < n; ++i) {
-    const float p00 = static_cast<float>(top_pair[i] & 0xff);
-    const float p01 = static_cast<float>(top_pair[i] >> 8);
-    const float p10 = static_cast<float>(bottom_pair[i] & 0xff);
-    const float p11 = static_cast<float>(bottom_pair[i] >> 8);
-    const float top = p00 + fx[i] * (p01 - p00);
-    const float bottom = p10 + fx[i] * (p11 - p10);
-    value[i] = top + fy[i] * (bottom - top);
-  }
+  GatherPixelPairs(grey.data, stride, offset.data(), n, top_pair.data(), bottom_pair.data());
+  BlendPixelPairs(top_pair.data(), bottom_pair.data(), fx.data(), fy.data(), n, value);
 }
 
 }  // namespace
