@@ -63,6 +63,30 @@ const std::array<int, kAngleBins>& SamplesOfBins(int samples) {
   return at->second;
 }
 
+// The steps of a ring wholly in the image (see Ring): the mean of samples [i + gap, i + gap +
+// width) less that of [i - gap - width + 1, i - gap], wrapping round, for each sample i. Summed
+// window by window in loops over i that vectorize: prefix sums, one long chain of dependent
+// additions, cost more than the ring's sampling.
+void StepsOfRingInside(const float* value, int n, int gap, int width, float* step) {
+  // The ring laid out with `lead` samples of wrap before it and after it: sample j (from -lead
+  // to n - 1 + lead) at extended[j + lead].
+  const int lead = gap + width - 1;
+  thread_local std::vector<float> extended;  // (grown, never shrunk)
+  if (extended.size() < static_cast<size_t>(n + 2 * lead)) extended.resize(n + 2 * lead);
+  float* e = extended.data();
+  std::copy(value + n - lead, value + n, e);  // (lead < n: a few samples of a ring of 150+)
+  std::copy(value, value + n, e + lead);
+  std::copy(value, value + lead, e + lead + n);
+  std::fill(step, step + n, 0.0f);
+  for (int k = 0; k < width; ++k) {
+    const float* ccw = e + gap + lead + k;  // sample i + gap + k
+    const float* cw = e + k;                // sample i - lead + k
+    for (int i = 0; i < n; ++i) step[i] += ccw[i] - cw[i];
+  }
+  const float per_width = 1.0f / static_cast<float>(width);
+  for (int i = 0; i < n; ++i) step[i] *= per_width;
+}
+
 Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radius_px,
                  const RayProfileOptions& o) {
   Ring ring;
@@ -82,35 +106,38 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   float* value = value_scratch.data();
   std::vector<uint8_t> ok(inside ? 0 : n, 0);  // (read only where the ring leaves the image)
   SampleRing(grey, centre, radius_px, n, value, inside ? nullptr : ok.data());
+  const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
+  const int gap = static_cast<int>(std::ceil(o.step_gap_px / per_sample));
+  const int width = std::max(1, static_cast<int>(std::lround(o.step_width_px / per_sample)));
+  ring.step = std::make_unique_for_overwrite<float[]>(n);
+  if (inside) {
+    StepsOfRingInside(value, n, gap, width, ring.step.get());
+    return ring;
+  }
   // Prefix sums over two turns, so that windows wrap round.
   double* sum = sum_scratch.data();
   sum[0] = 0;
-  std::vector<int> valid(inside ? 0 : 2 * n + 1, 0);
+  std::vector<int> valid(2 * n + 1, 0);
   // (Two loops, not one with i % n: that division was a good part of the check's time.)
   for (int turn = 0; turn < 2; ++turn) {
     for (int j = 0; j < n; ++j) {
       const int i = turn * n + j;
       sum[i + 1] = sum[i] + value[j];
-      if (!inside) valid[i + 1] = valid[i] + ok[j];
+      valid[i + 1] = valid[i] + ok[j];
     }
   }
-  const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
-  const int gap = static_cast<int>(std::ceil(o.step_gap_px / per_sample));
-  const int width = std::max(1, static_cast<int>(std::lround(o.step_width_px / per_sample)));
-  ring.step = std::make_unique_for_overwrite<float[]>(n);
-  if (!inside) ring.step_valid = std::make_unique<uint8_t[]>(n);  // zeros
+  ring.step_valid = std::make_unique<uint8_t[]>(n);  // zeros
   for (int i = 0; i < n; ++i) {
     // Counter-clockwise window [i + gap, i + gap + width), clockwise [i - gap - width + 1,
     // i - gap] shifted one turn on: both within the prefix sums' two turns, [0, 2n].
     const int ccw = i + gap, cw = i + n - gap - width + 1;
-    if (!inside &&
-        (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width)) {
+    if (valid[ccw + width] - valid[ccw] != width || valid[cw + width] - valid[cw] != width) {
       ring.step[i] = 0;
       continue;
     }
     ring.step[i] =
         static_cast<float>((sum[ccw + width] - sum[ccw] - sum[cw + width] + sum[cw]) / width);
-    if (!inside) ring.step_valid[i] = 1;
+    ring.step_valid[i] = 1;
   }
   return ring;
 }
