@@ -74,7 +74,7 @@ void StepsOfRingInside(const float* value, int n, int gap, int width, float* ste
   thread_local std::vector<float> extended;  // (grown, never shrunk)
   if (extended.size() < static_cast<size_t>(n + 2 * lead)) extended.resize(n + 2 * lead);
   float* e = extended.data();
-  std::copy(value + n - lead, value + n, e);  // (lead < n: a few samples of a ring of 150+)
+  std::copy(value + n - lead, value + n, e);  // (lead < n: MeasureRing asks no more)
   std::copy(value, value + n, e + lead);
   std::copy(value, value + lead, e + lead + n);
   std::fill(step, step + n, 0.0f);
@@ -109,6 +109,11 @@ Ring MeasureRing(const cv::Mat& grey, const Eigen::Vector2d& centre, double radi
   const double per_sample = 2 * kPi * radius_px / n;  // px along the ring
   const int gap = static_cast<int>(std::ceil(o.step_gap_px / per_sample));
   const int width = std::max(1, static_cast<int>(std::lround(o.step_width_px / per_sample)));
+  if (gap + width > n) {  // a ring too small for its windows: no step is read from it
+    ring.step = std::make_unique<float[]>(n);
+    ring.step_valid = std::make_unique<uint8_t[]>(n);
+    return ring;
+  }
   ring.step = std::make_unique_for_overwrite<float[]>(n);
   if (inside) {
     StepsOfRingInside(value, n, gap, width, ring.step.get());

@@ -62,6 +62,19 @@ TEST(CornerRaysTest, AFourthEdgeIsFoundWithItsStepAndDirection) {
   EXPECT_NEAR(ray.angle_rad * 180 / kPi, -90, 1);
 }
 
+// Rings from 1 px out: those too small for their step windows (a few samples round) are not
+// read, and the rest find the fourth edge as the default rings do. (Read, the 1 px ring's
+// windows reach outside its samples: AddressSanitizer reports it.)
+TEST(CornerRaysTest, RingsTooSmallForTheirWindowsAreNotRead) {
+  const cv::Mat image = Sectors({-150, -90, -30, 90}, {200, 160, 170, 150});
+  RayProfileOptions from_the_corner;
+  from_the_corner.min_radius_px = 1;
+  from_the_corner.radius_step_px = 3;
+  const OtherRay ray = StrongestOtherRay(image, kCorner, kY, from_the_corner);
+  EXPECT_NEAR(ray.step_grey, 40, 3);
+  EXPECT_NEAR(ray.angle_rad * 180 / kPi, -90, 1);
+}
+
 // Where each ring's samples wrap round (image angle 0, approached from below), its step
 // windows reach across the wrap: a ray just below 0 degrees is read as any other.
 TEST(CornerRaysTest, ARayWhereTheRingsWrapIsFoundWithItsStep) {

@@ -234,7 +234,10 @@ void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen
   // calls a frame its allocations cost more than the sampling.
   std::vector<float>& patch = *patch_out;
   const int width = static_cast<int>(columns.size());
-  patch.resize(static_cast<size_t>(width) * height);
+  // (Scratch here and below grown, never shrunk: a vector resized down and up again fills
+  // its tail with zeros anew.)
+  if (patch.size() < static_cast<size_t>(width) * height)
+    patch.resize(static_cast<size_t>(width) * height);
   const int max_x0 = grey.cols - 2, max_y0 = grey.rows - 2;
   const double last_column = columns.back();
   const Eigen::Vector2d far_corner = origin + last_column * d + (height - 1) * n;
@@ -254,10 +257,12 @@ void SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& origin, const Eigen
   thread_local std::vector<float> fx, fy;
   thread_local std::vector<uint16_t> top_pair, bottom_pair;  // left | right << 8
   thread_local std::vector<int32_t> offset;
-  for (auto* v : {&fx, &fy}) v->resize(width);
-  top_pair.resize(width);
-  bottom_pair.resize(width);
-  offset.resize(width);
+  if (offset.size() < static_cast<size_t>(width)) {
+    for (auto* v : {&fx, &fy}) v->resize(width);
+    top_pair.resize(width);
+    bottom_pair.resize(width);
+    offset.resize(width);
+  }
   // A pixel's offset in float, exact below 2^24 bytes: SSE2 has no 32-bit integer multiply,
   // and the emulated one cost as much as the rest of the positions' loop.
   const bool float_offsets_exact = static_cast<double>(grey.rows) * stride < (1 << 24);
